@@ -1,0 +1,13 @@
+# Run as: cmake -DENGINE_DIR=... -P CheckEnginePurity.cmake
+file(GLOB_RECURSE files "${ENGINE_DIR}/*.hpp" "${ENGINE_DIR}/*.cpp" "${ENGINE_DIR}/*.h")
+set(bad "")
+foreach(f IN LISTS files)
+  file(STRINGS "${f}" hits REGEX "#[ \t]*include[ \t]*[<\"](httplib\\.h|sqlite3\\.h|nlohmann/)")
+  if(hits)
+    list(APPEND bad "${f}: ${hits}")
+  endif()
+endforeach()
+if(bad)
+  string(REPLACE ";" "\n" msg "${bad}")
+  message(FATAL_ERROR "engine/ must stay pure (no HTTP, SQL or JSON):\n${msg}")
+endif()
