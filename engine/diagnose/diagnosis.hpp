@@ -1,0 +1,108 @@
+#pragma once
+// Closing the loop: calibrate the base model to lab readings, split the residual by curve
+// and phase, rank the catalog's effects by how well their signature matches the residual,
+// fit the best candidates as augmented models and keep one only if it earns its parameters
+// by BIC with an effective number of readings. Algorithm and budget: docs/diagnosis.md.
+#include <cstddef>
+#include <cstdint>
+#include <exception>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/diagnose/effect.hpp"
+#include "engine/diagnose/forward_model.hpp"
+#include "engine/diagnose/lab_data.hpp"
+
+namespace triax::protocol {
+struct TestScheme;
+}
+
+namespace triax::diagnose {
+
+struct DiagnoseOptions {
+    int budget_runs = 24;          // model evaluations for the base calibration (design + refinement)
+    int refine_runs = 10;          // evaluations per augmented candidate fit
+    int max_candidates = 3;        // top-ranked effects fitted as augmented models
+    int max_effects = 2;           // stepwise: effects added one at a time while BIC improves
+    int concurrency = 1;           // model evaluations run at the same time
+    int threads_per_run = 1;       // OpenMP threads inside one DEM run
+    std::uint64_t seed = 1;
+    double bic_threshold = 10.0;   // an effect is kept only if it lowers BIC by more than this
+};
+
+struct FittedParameter {
+    std::string name;
+    std::string unit;  // SI
+    double value = 0.0;
+    double std = 0.0;  // 1-sigma from the local Jacobian, inflated for correlated readings
+};
+
+// Error of one curve (or one phase of it). unit is the SI unit of the compared quantity.
+struct PhaseError {
+    std::string curve;   // "stress_strain@100kPa", "volumetric@100kPa", "creep-2@100kPa"
+    std::string phase;   // "all", "pre_peak", "post_peak", "contraction", "dilation",
+                         // "instant", "primary", "steady", "tertiary"
+    std::string unit;    // "Pa" or "-"
+    std::size_t n = 0;
+    double rmse = 0.0;
+    double nrmse = 0.0;  // rmse / range of the lab curve (whole curve, so phases add up)
+};
+
+struct CandidateResult {
+    std::string effect;
+    double signature_score = 0.0;  // |correlation| of residual with the effect's signature, 0..1
+    bool fitted = false;
+    std::vector<FittedParameter> parameters;  // effect parameters only
+    double rss = 0.0;                         // normalised residual sum of squares after fit
+    double bic = 0.0;
+    double delta_bic_vs_base = 0.0;           // negative = better than base
+    std::string note;                         // why it was not fitted / failed
+};
+
+struct RunnerUp {
+    std::string effect;
+    double delta_bic = 0.0;  // BIC(runner-up) - BIC(chosen); positive = worse
+};
+
+struct DiagnosisReport {
+    std::string chosen_effect = "unexplained";  // effect name or "unexplained"
+    std::vector<std::string> effects;           // every effect kept (stepwise order)
+    std::vector<FittedParameter> parameters;    // final model: base then effect parameters
+    std::vector<FittedParameter> base_parameters;  // calibrated base model alone
+    std::vector<PhaseError> error_before;       // calibrated base model
+    std::vector<PhaseError> error_after;        // final model
+    double delta_bic_vs_base = 0.0;
+    std::vector<RunnerUp> runners_up;
+    std::vector<CandidateResult> candidates;    // every effect considered, ranked
+    double n_readings = 0.0;
+    double n_effective = 0.0;
+    double nrmse_before = 0.0;                  // pooled over all curves
+    double nrmse_after = 0.0;
+    int runs_used = 0;
+    std::string verdict;
+};
+
+// Observer: progress, candidate events and cancellation. Called from the calling thread.
+class DiagnoseObserver {
+public:
+    virtual ~DiagnoseObserver() = default;
+    virtual void on_progress(double percent, std::string_view stage) {}
+    virtual void on_candidate(const CandidateResult& candidate) {}
+    virtual bool cancelled() const { return false; }
+};
+
+// Thrown when the observer cancels; the service marks the job cancelled.
+struct DiagnosisCancelled : std::exception {
+    const char* what() const noexcept override { return "diagnosis cancelled"; }
+};
+
+// Core loop on any forward model. Throws std::invalid_argument on unusable lab data.
+DiagnosisReport run_diagnosis(const LabDataset& lab, const ForwardModel& model,
+                              const DiagnoseOptions& options, DiagnoseObserver& observer);
+
+// The product entry point: the forward model is the DEM triaxial protocol built on `base`.
+DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base,
+                              const DiagnoseOptions& options, DiagnoseObserver& observer);
+
+}  // namespace triax::diagnose

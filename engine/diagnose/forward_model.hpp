@@ -1,0 +1,38 @@
+#pragma once
+// The model the diagnosis calibrates: a parameter vector in, predicted curves out, at the
+// conditions of the lab dataset (same confining pressures, creep stages and load levels).
+// The DEM implementation (dem_forward_model.hpp) runs engine/protocol; tests may supply a
+// cheap analytic one. simulate() must be deterministic for a given seed and callable from
+// several threads at once (the diagnosis runs evaluations concurrently).
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "engine/diagnose/effect.hpp"
+#include "engine/diagnose/lab_data.hpp"
+
+namespace triax::diagnose {
+
+// A point of the model space: the base parameters plus the physical effects switched on,
+// each with its own parameters (ordered as in ForwardModel::effect_parameters).
+struct ModelPoint {
+    std::vector<double> base;
+    std::vector<std::pair<Effect, std::vector<double>>> effects;
+};
+
+class ForwardModel {
+public:
+    virtual ~ForwardModel() = default;
+    // Parameters calibrated in every model (stiffness, friction, bond strength, creep law).
+    virtual std::vector<ParameterSpec> base_parameters() const = 0;
+    // Parameters of a physical effect; empty if the model cannot represent it (it is then
+    // skipped). Never called for test artefacts.
+    virtual std::vector<ParameterSpec> effect_parameters(Effect e) const = 0;
+    // Predicted curves, one per lab curve it can reproduce, identified by (kind, stage,
+    // confining_pa) like the lab's. Shear curves: axial_strain, deviator_pa,
+    // volumetric_strain. Creep curves: time_s, axial_strain (and axial_deformation_m).
+    // Throws on failure; the diagnosis records the failure and scores the point as bad.
+    virtual LabDataset simulate(const ModelPoint& point, std::uint64_t seed) const = 0;
+};
+
+}  // namespace triax::diagnose
