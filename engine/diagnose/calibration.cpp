@@ -1,0 +1,180 @@
+// Design + local-surrogate Levenberg-Marquardt calibration (algorithm in calibration.hpp).
+#include "engine/diagnose/calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+
+namespace triax::diagnose {
+
+namespace {
+
+double rss_of(const std::vector<double>& r) {
+    if (r.empty()) return std::numeric_limits<double>::infinity();
+    double s = 0.0;
+    for (double v : r) s += v * v;
+    return std::isfinite(s) ? s : std::numeric_limits<double>::infinity();
+}
+
+Eigen::VectorXd clamp_unit(Eigen::VectorXd u) {
+    for (Eigen::Index j = 0; j < u.size(); ++j) u[j] = std::clamp(u[j], 0.0, 1.0);
+    return u;
+}
+
+// Gaussian-weighted least-squares Jacobian of the residual around point `c` from all runs.
+Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const std::vector<std::vector<double>>& residuals,
+                               const Eigen::VectorXd& c, const std::vector<double>& rc, double width) {
+    const Eigen::Index k = c.size();
+    const Eigen::Index n = static_cast<Eigen::Index>(rc.size());
+    Eigen::MatrixXd dtwd = Eigen::MatrixXd::Zero(k, k);
+    Eigen::MatrixXd rwd = Eigen::MatrixXd::Zero(n, k);
+    for (std::size_t i = 0; i < h.points.size(); ++i) {
+        if (!std::isfinite(h.point_rss[i])) continue;
+        const Eigen::VectorXd d = h.points[i] - c;
+        const double dist2 = d.squaredNorm();
+        if (dist2 == 0.0) continue;
+        const double w = std::exp(-dist2 / (2.0 * width * width));
+        if (w < 1e-8) continue;
+        dtwd.noalias() += w * d * d.transpose();
+        for (Eigen::Index a = 0; a < n; ++a) rwd.row(a).noalias() += (w * (residuals[i][a] - rc[a])) * d.transpose();
+    }
+    // Small ridge: directions no run has explored get a zero slope rather than noise.
+    const double ridge = 1e-6 * std::max(dtwd.trace() / static_cast<double>(k), 1e-12) + 1e-12;
+    dtwd.diagonal().array() += ridge;
+    return rwd * dtwd.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+}
+
+}  // namespace
+
+std::vector<Eigen::VectorXd> latin_hypercube(int points, int dimensions, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    std::vector<Eigen::VectorXd> out(static_cast<std::size_t>(std::max(points, 0)), Eigen::VectorXd(dimensions));
+    std::vector<int> perm(static_cast<std::size_t>(std::max(points, 0)));
+    for (int j = 0; j < dimensions; ++j) {
+        std::iota(perm.begin(), perm.end(), 0);
+        std::shuffle(perm.begin(), perm.end(), rng);
+        for (int i = 0; i < points; ++i)
+            out[static_cast<std::size_t>(i)][j] = (perm[static_cast<std::size_t>(i)] + uni(rng)) / points;
+    }
+    return out;
+}
+
+double to_parameter(const ParameterSpec& s, double u) {
+    if (s.log_scale) return s.lower * std::pow(s.upper / s.lower, u);
+    return s.lower + u * (s.upper - s.lower);
+}
+
+double to_unit(const ParameterSpec& s, double v) {
+    if (s.upper == s.lower) return 0.0;
+    if (s.log_scale) return std::clamp(std::log(v / s.lower) / std::log(s.upper / s.lower), 0.0, 1.0);
+    return std::clamp((v - s.lower) / (s.upper - s.lower), 0.0, 1.0);
+}
+
+double parameter_derivative(const ParameterSpec& s, double u) {
+    if (s.log_scale) return to_parameter(s, u) * std::log(s.upper / s.lower);
+    return s.upper - s.lower;
+}
+
+CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSettings& st,
+                            const std::function<void(int)>& progress) {
+    const Eigen::Index k = st.start.size();
+    if (k == 0) throw std::invalid_argument("calibrate: no parameter to calibrate (empty start point)");
+    CalibrationResult res;
+    std::vector<std::vector<double>> residuals;
+    std::size_t best = 0;
+
+    auto run_batch = [&](const std::vector<Eigen::VectorXd>& batch) {
+        if (batch.empty()) return;
+        auto out = evaluate(batch);
+        if (out.size() != batch.size()) throw std::logic_error("calibrate: evaluator returned the wrong batch size");
+        for (std::size_t i = 0; i < batch.size(); ++i) {
+            res.points.push_back(batch[i]);
+            res.point_rss.push_back(rss_of(out[i]));
+            residuals.push_back(std::move(out[i]));
+            if (res.point_rss.back() < res.point_rss[best]) best = res.points.size() - 1;
+        }
+        res.runs += static_cast<int>(batch.size());
+        if (progress) progress(res.runs);
+    };
+
+    // Design: the start point first, so `best` starts there; then the space-filling part.
+    std::vector<Eigen::VectorXd> design{clamp_unit(st.start)};
+    if (st.axial_design)
+        for (Eigen::Index j = 0; j < k; ++j) {
+            Eigen::VectorXd p = st.start;
+            p[j] = st.start[j] + (st.start[j] + st.initial_radius <= 1.0 ? st.initial_radius : -st.initial_radius);
+            design.push_back(clamp_unit(p));
+        }
+    for (auto& p : latin_hypercube(st.design_runs, static_cast<int>(k), st.seed)) design.push_back(p);
+    const std::size_t batch_size = static_cast<std::size_t>(std::max(1, st.batch));
+    for (std::size_t a = 0; a < design.size(); a += batch_size * 4)
+        run_batch({design.begin() + static_cast<long>(a),
+                   design.begin() + static_cast<long>(std::min(design.size(), a + batch_size * 4))});
+
+    double radius = st.initial_radius;
+    const int budget = res.runs + std::max(0, st.refine_runs);
+    static const double kDamping[] = {1e-3, 1e-1, 1.0, 10.0};
+    while (res.runs < budget && radius > 1e-3 && std::isfinite(res.point_rss[best])) {
+        const Eigen::VectorXd c = res.points[best];
+        const Eigen::VectorXd rc = Eigen::Map<const Eigen::VectorXd>(residuals[best].data(),
+                                                                     static_cast<Eigen::Index>(residuals[best].size()));
+        const Eigen::MatrixXd J = local_jacobian(res, residuals, c, residuals[best], std::max(radius, 0.05));
+        const Eigen::MatrixXd jtj = J.transpose() * J;
+        const Eigen::VectorXd g = J.transpose() * rc;
+        const double scale = std::max(jtj.diagonal().maxCoeff(), 1e-12);
+        std::vector<Eigen::VectorXd> batch;
+        const std::size_t want = std::min<std::size_t>(batch_size, static_cast<std::size_t>(budget - res.runs));
+        for (std::size_t b = 0; b < want; ++b) {
+            Eigen::MatrixXd a = jtj;
+            a.diagonal().array() += kDamping[b % 4] * (1.0 + static_cast<double>(b / 4)) * scale * 1e-2 +
+                                    1e-9 * scale;
+            Eigen::VectorXd step = -a.ldlt().solve(g);
+            const double len = step.lpNorm<Eigen::Infinity>();
+            if (len > radius) step *= radius / len;
+            Eigen::VectorXd p = clamp_unit(c + step);
+            if ((p - c).norm() < 1e-9) {  // stuck on the box boundary: probe a random direction
+                std::mt19937_64 rng(st.seed + static_cast<std::uint64_t>(res.runs) * 7919u + b);
+                std::normal_distribution<double> nd;
+                for (Eigen::Index j = 0; j < k; ++j) p[j] = c[j] + 0.5 * radius * nd(rng);
+                p = clamp_unit(p);
+            }
+            batch.push_back(p);
+        }
+        const double before = res.point_rss[best];
+        run_batch(batch);
+        radius = res.point_rss[best] < before * (1.0 - 1e-6) ? std::min(0.5, radius * 1.5) : radius * 0.5;
+    }
+
+    res.best = res.points[best];
+    res.residual = residuals[best];
+    res.rss = res.point_rss[best];
+    if (std::isfinite(res.rss))
+        res.jacobian = local_jacobian(res, residuals, res.best, res.residual, std::max(radius, 0.1));
+    return res;
+}
+
+std::vector<double> parameter_std(const std::vector<ParameterSpec>& specs, const CalibrationResult& r,
+                                  double n_effective) {
+    const Eigen::Index k = static_cast<Eigen::Index>(specs.size());
+    std::vector<double> out(specs.size(), 0.0);
+    const double n = static_cast<double>(r.residual.size());
+    if (r.jacobian.cols() != k || n <= static_cast<double>(k)) return out;
+    const double s2 = r.rss / (n - static_cast<double>(k)) * (n / std::max(n_effective, 1.0));
+    Eigen::MatrixXd jtj = r.jacobian.transpose() * r.jacobian;
+    jtj.diagonal().array() += 1e-12 * std::max(jtj.trace(), 1e-12);
+    const Eigen::MatrixXd cov = s2 * jtj.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+    for (Eigen::Index j = 0; j < k; ++j) {
+        const auto& s = specs[static_cast<std::size_t>(j)];
+        // An unidentified parameter is reported with its whole range as uncertainty.
+        const double su = std::min(std::sqrt(std::max(cov(j, j), 0.0)), 1.0);
+        out[static_cast<std::size_t>(j)] = std::min(su * std::abs(parameter_derivative(s, r.best[j])),
+                                                    std::abs(s.upper - s.lower));
+    }
+    return out;
+}
+
+}  // namespace triax::diagnose

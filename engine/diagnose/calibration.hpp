@@ -1,0 +1,69 @@
+#pragma once
+// Calibration of model parameters to a residual vector, on a budget of model runs.
+//
+// Algorithm (DEcalioc-like: space-filling design, surrogate, refinement on real runs):
+//  1. Parameters are mapped to the unit cube (log scale where ParameterSpec says so).
+//  2. Design: the start point plus a seeded Latin hypercube of `design_runs` points.
+//  3. Refinement, until the budget is spent or the trust radius collapses: a local
+//     linear surrogate of the residual vector r(u) ~ r(u*) + J (u - u*) is fitted by
+//     Gaussian-weighted least squares (width = trust radius h) to every run made so far
+//     around the best point u*; Levenberg-Marquardt steps on that surrogate, one per
+//     damping value in the batch, are run for real; h grows by 1.5 after an improvement
+//     and halves otherwise. Regression over scattered runs instead of finite differences
+//     because DEM output is rough at small parameter changes.
+//  4. Uncertainty: Cov(u) = s^2 (J^T J)^-1 (n / n_eff), s^2 = RSS / (n - k), mapped to
+//     parameter units by the derivative of the unit-cube map; the n / n_eff factor
+//     accounts for correlated readings along a curve.
+// Runs of one batch are independent, so the evaluator may run them concurrently.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "engine/diagnose/effect.hpp"
+
+namespace triax::diagnose {
+
+// Residual vectors for a batch of unit-cube points; an empty vector marks a failed run.
+using BatchEvaluator = std::function<std::vector<std::vector<double>>(const std::vector<Eigen::VectorXd>&)>;
+
+struct CalibrationSettings {
+    int design_runs = 12;       // Latin hypercube points (0: start point and refinement only)
+    int refine_runs = 12;       // real runs spent on refinement
+    int batch = 2;              // runs per refinement batch (different damping values)
+    double initial_radius = 0.25;  // trust radius in unit-cube coordinates
+    std::uint64_t seed = 1;
+    Eigen::VectorXd start;      // starting point in the unit cube (required)
+    // Extra design points placed +-radius along each axis around the start point (useful
+    // when refining from a previous optimum, where a space-filling design would waste runs).
+    bool axial_design = false;
+};
+
+struct CalibrationResult {
+    Eigen::VectorXd best;                 // unit-cube optimum
+    std::vector<double> residual;         // residual at the optimum
+    double rss = 0.0;
+    Eigen::MatrixXd jacobian;             // d residual / d u at the optimum (surrogate)
+    std::vector<Eigen::VectorXd> points;  // every run, in order
+    std::vector<double> point_rss;        // RSS per run (infinity if it failed)
+    int runs = 0;
+};
+
+// `progress(runs_done)` is called after each batch and may throw to cancel.
+CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSettings& settings,
+                            const std::function<void(int)>& progress = {});
+
+// Unit cube <-> parameter values.
+double to_parameter(const ParameterSpec& spec, double u);
+double to_unit(const ParameterSpec& spec, double value);
+double parameter_derivative(const ParameterSpec& spec, double u);  // d value / d u
+
+// 1-sigma standard deviations of the parameters from a calibration result.
+std::vector<double> parameter_std(const std::vector<ParameterSpec>& specs, const CalibrationResult& result,
+                                  double n_effective);
+
+// Seeded Latin hypercube in [0,1]^k (one stratum per point and axis, random inside it).
+std::vector<Eigen::VectorXd> latin_hypercube(int points, int dimensions, std::uint64_t seed);
+
+}  // namespace triax::diagnose

@@ -1,0 +1,374 @@
+// The loop: calibrate the base model, rank the catalog by residual signature, fit the best
+// candidates as augmented models, select by BIC, report. Algorithm: docs/diagnosis.md.
+#include "engine/diagnose/diagnosis.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "engine/diagnose/calibration.hpp"
+#include "engine/diagnose/model_selection.hpp"
+#include "engine/diagnose/residuals.hpp"
+#include "engine/diagnose/test_artefacts.hpp"
+
+namespace triax::diagnose {
+
+namespace {
+
+// A model variant: the base plus a list of effects; parameters laid out base first.
+struct Variant {
+    std::vector<Effect> effects;
+};
+
+struct Fit {
+    Variant variant;
+    std::vector<ParameterSpec> specs;
+    CalibrationResult cal;
+    double bic = 0.0;
+};
+
+class Loop {
+public:
+    Loop(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& opt, DiagnoseObserver& obs)
+        : model_(model), opt_(opt), obs_(obs), layout_(residual_layout(lab)), ranges_(series_ranges(layout_)),
+          base_specs_(model.base_parameters()) {
+        if (base_specs_.empty()) throw std::invalid_argument("forward model has no base parameter to calibrate");
+        for (Effect e : kAllEffects) {
+            auto specs = is_test_artefact(e) ? artefact_parameters(e) : model.effect_parameters(e);
+            if (!specs.empty()) effect_specs_[e] = std::move(specs);
+        }
+        int physical = 0;
+        for (const auto& [e, s] : effect_specs_) physical += is_test_artefact(e) ? 0 : 1;
+        planned_runs_ = opt_.budget_runs +
+                        opt_.max_effects * (physical + (opt_.max_candidates + 1) * std::max(opt_.refine_runs, 1));
+    }
+
+    DiagnosisReport run();
+
+private:
+    std::vector<ParameterSpec> specs_of(const Variant& v) const {
+        auto s = base_specs_;
+        for (Effect e : v.effects) s.insert(s.end(), effect_specs_.at(e).begin(), effect_specs_.at(e).end());
+        return s;
+    }
+
+    // Predicted dataset at unit-cube point u: one engine run per distinct physical point
+    // (cached, so artefact-only changes cost nothing), then the artefacts as post-processing.
+    LabDataset predict(const Variant& v, const Eigen::VectorXd& u) {
+        const auto specs = specs_of(v);
+        std::vector<double> values(specs.size());
+        for (std::size_t j = 0; j < specs.size(); ++j) values[j] = to_parameter(specs[j], u[static_cast<Eigen::Index>(j)]);
+        ModelPoint point;
+        point.base.assign(values.begin(), values.begin() + static_cast<long>(base_specs_.size()));
+        std::vector<std::pair<Effect, std::vector<double>>> artefacts;
+        std::size_t at = base_specs_.size();
+        for (Effect e : v.effects) {
+            const std::size_t m = effect_specs_.at(e).size();
+            std::vector<double> p(values.begin() + static_cast<long>(at), values.begin() + static_cast<long>(at + m));
+            at += m;
+            (is_test_artefact(e) ? artefacts : point.effects).emplace_back(e, std::move(p));
+        }
+        std::sort(point.effects.begin(), point.effects.end());
+        std::vector<double> key = point.base;
+        for (const auto& [e, p] : point.effects) {
+            key.push_back(1000.0 + static_cast<double>(e));
+            key.insert(key.end(), p.begin(), p.end());
+        }
+        LabDataset predicted;
+        bool hit = false;
+        {
+            std::lock_guard<std::mutex> lock(cache_mutex_);
+            auto it = cache_.find(key);
+            if (it != cache_.end()) predicted = it->second, hit = true;
+        }
+        if (!hit) {
+            predicted = model_.simulate(point, opt_.seed);
+            std::lock_guard<std::mutex> lock(cache_mutex_);
+            cache_.emplace(key, predicted);
+            ++runs_;
+        }
+        for (const auto& [e, p] : artefacts) apply_test_artefact(predicted, e, p);
+        return predicted;
+    }
+
+    std::vector<double> residual_at(const Variant& v, const Eigen::VectorXd& u) {
+        return normalised_residual(layout_, predict(v, u));
+    }
+
+    // Independent evaluations spread over opt.concurrency threads; a failed run gives an
+    // empty residual (the calibration treats it as infinitely bad).
+    std::vector<std::vector<double>> evaluate(const Variant& v, const std::vector<Eigen::VectorXd>& batch) {
+        if (obs_.cancelled()) throw DiagnosisCancelled{};
+        std::vector<std::vector<double>> out(batch.size());
+        std::atomic<std::size_t> next{0};
+        auto worker = [&] {
+            for (std::size_t i; (i = next.fetch_add(1)) < batch.size();) {
+                try {
+                    out[i] = residual_at(v, batch[i]);
+                } catch (const std::exception&) {
+                    out[i].clear();
+                    failures_.fetch_add(1);
+                }
+            }
+        };
+        const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(opt_.concurrency, 1)), batch.size());
+        std::vector<std::thread> pool;
+        for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+        worker();
+        for (auto& t : pool) t.join();
+        report_progress();
+        return out;
+    }
+
+    void report_progress() {
+        const double pct = std::min(99.0, 100.0 * static_cast<double>(runs_) / std::max(planned_runs_, 1));
+        obs_.on_progress(pct, stage_);
+        if (obs_.cancelled()) throw DiagnosisCancelled{};
+    }
+
+    Fit fit(const Variant& v, const Eigen::VectorXd& start, int design_runs, int refine_runs, bool axial) {
+        Fit f{v, specs_of(v), {}, 0.0};
+        CalibrationSettings st;
+        st.start = start;
+        st.design_runs = design_runs;
+        st.refine_runs = refine_runs;
+        st.batch = std::max(1, opt_.concurrency);
+        st.seed = opt_.seed;
+        st.axial_design = axial;
+        st.initial_radius = axial ? 0.15 : 0.25;
+        f.cal = calibrate([&](const std::vector<Eigen::VectorXd>& b) { return evaluate(v, b); }, st);
+        return f;
+    }
+
+    Eigen::VectorXd nominal_unit(const std::vector<ParameterSpec>& specs) const {
+        Eigen::VectorXd u(static_cast<Eigen::Index>(specs.size()));
+        for (std::size_t j = 0; j < specs.size(); ++j) u[static_cast<Eigen::Index>(j)] = to_unit(specs[j], specs[j].nominal);
+        return u;
+    }
+
+    Eigen::VectorXd extended(const Eigen::VectorXd& u, Effect e) const {
+        const Eigen::VectorXd extra = nominal_unit(effect_specs_.at(e));
+        Eigen::VectorXd out(u.size() + extra.size());
+        out << u, extra;
+        return out;
+    }
+
+    std::vector<FittedParameter> parameters_of(const Fit& f, double n_eff) const {
+        const auto stds = parameter_std(f.specs, f.cal, n_eff);
+        std::vector<FittedParameter> out;
+        for (std::size_t j = 0; j < f.specs.size(); ++j)
+            out.push_back({f.specs[j].name, f.specs[j].unit, to_parameter(f.specs[j], f.cal.best[static_cast<Eigen::Index>(j)]),
+                           stds[j]});
+        return out;
+    }
+
+    double score_signature(const Fit& current, const std::vector<double>& with_effect) const;
+
+    const ForwardModel& model_;
+    const DiagnoseOptions& opt_;
+    DiagnoseObserver& obs_;
+    std::vector<ResidualSeries> layout_;
+    std::vector<std::pair<std::size_t, std::size_t>> ranges_;
+    std::vector<ParameterSpec> base_specs_;
+    std::map<Effect, std::vector<ParameterSpec>> effect_specs_;
+    std::map<std::vector<double>, LabDataset> cache_;
+    std::mutex cache_mutex_;
+    std::atomic<int> failures_{0};
+    int runs_ = 0;
+    int planned_runs_ = 1;
+    std::string stage_ = "calibration";
+};
+
+// Score test: how much of the current residual lies along the effect's signature once the
+// directions the current parameters can already produce (columns of J) are projected out.
+// Only the direction that reduces the residual counts (effects are switched on from zero).
+double Loop::score_signature(const Fit& current, const std::vector<double>& with_effect) const {
+    const auto& r0 = current.cal.residual;
+    if (with_effect.size() != r0.size()) return 0.0;
+    const Eigen::Index n = static_cast<Eigen::Index>(r0.size());
+    Eigen::VectorXd s(n), r(n);
+    for (Eigen::Index i = 0; i < n; ++i) s[i] = with_effect[static_cast<std::size_t>(i)] - r0[static_cast<std::size_t>(i)], r[i] = r0[static_cast<std::size_t>(i)];
+    const Eigen::MatrixXd& J = current.cal.jacobian;
+    if (J.rows() == n && J.cols() > 0) {
+        Eigen::MatrixXd jtj = J.transpose() * J;
+        jtj.diagonal().array() += 1e-9 * std::max(jtj.trace(), 1e-12);
+        s -= J * jtj.ldlt().solve(J.transpose() * s);
+    }
+    const double denom = s.norm() * r.norm();
+    if (denom <= 0.0) return 0.0;
+    return std::max(0.0, -r.dot(s) / denom);
+}
+
+DiagnosisReport Loop::run() {
+    DiagnosisReport rep;
+    const std::size_t n = layout_.empty() ? 0 : ranges_.back().second;
+
+    // 1. Base calibration: space-filling design then local refinement.
+    stage_ = "calibration";
+    const int design = std::max(2, opt_.budget_runs / 2);
+    Fit base = fit(Variant{}, nominal_unit(base_specs_), design - 1, std::max(0, opt_.budget_runs - design), false);
+    if (!std::isfinite(base.cal.rss))
+        throw std::runtime_error("every base-model run failed (" + std::to_string(failures_.load()) +
+                                 " failures); check the scheme");
+
+    Fit current = base;
+    Fit base_final = base;
+    std::vector<CandidateResult> step1_candidates;
+    std::vector<std::pair<std::string, double>> step1_bics;  // effect -> BIC, for runners-up
+    double step1_chosen_bic = 0.0;
+
+    for (int step = 0; step < opt_.max_effects; ++step) {
+        // 2. Signatures of the effects not yet in the model, at the current optimum.
+        stage_ = "signatures";
+        std::vector<Effect> pool;
+        for (const auto& [e, specs] : effect_specs_)
+            if (std::find(current.variant.effects.begin(), current.variant.effects.end(), e) == current.variant.effects.end())
+                pool.push_back(e);
+        std::vector<CandidateResult> cands;
+        std::vector<std::pair<double, Effect>> ranked;
+        for (Effect e : pool) {
+            Variant v = current.variant;
+            v.effects.push_back(e);
+            auto r = evaluate(v, {extended(current.cal.best, e)});
+            CandidateResult c;
+            c.effect = std::string(effect_name(e));
+            c.signature_score = r[0].empty() ? 0.0 : score_signature(current, r[0]);
+            if (r[0].empty()) c.note = "signature run failed";
+            ranked.emplace_back(c.signature_score, e);
+            cands.push_back(c);
+        }
+        std::stable_sort(ranked.begin(), ranked.end(), [](auto& a, auto& b) { return a.first > b.first; });
+
+        // 3. The current model refined with the same run budget a candidate gets, so no
+        //    candidate wins merely by being calibrated longer.
+        stage_ = "candidates";
+        Fit same = fit(current.variant, current.cal.best, 0, opt_.refine_runs, false);
+        if (same.cal.rss > current.cal.rss) same = current;
+
+        std::vector<Fit> fits;
+        for (std::size_t i = 0; i < ranked.size() && static_cast<int>(i) < opt_.max_candidates; ++i) {
+            auto& c = *std::find_if(cands.begin(), cands.end(), [&](auto& x) { return x.effect == effect_name(ranked[i].second); });
+            if (ranked[i].first < 0.05) {
+                c.note = "signature does not match the residual (score < 0.05)";
+                continue;
+            }
+            Variant v = current.variant;
+            v.effects.push_back(ranked[i].second);
+            // Refinement from the current optimum: axial probes then local steps.
+            fits.push_back(fit(v, extended(same.cal.best, ranked[i].second), 0, opt_.refine_runs, true));
+        }
+        for (auto& c : cands)
+            if (c.note.empty() && std::none_of(fits.begin(), fits.end(), [&](auto& f) { return effect_name(f.variant.effects.back()) == c.effect; }))
+                c.note = "ranked below the top " + std::to_string(opt_.max_candidates);
+
+        // 4. BIC with one n_eff for all: from the best-fitting model's residual.
+        const Fit* best_fit = &same;
+        for (const auto& f : fits)
+            if (f.cal.rss < best_fit->cal.rss) best_fit = &f;
+        const double n_eff = effective_readings(best_fit->cal.residual, ranges_);
+        same.bic = bic(same.cal.rss, n, n_eff, same.specs.size());
+        const Fit* winner = nullptr;
+        for (auto& f : fits) {
+            f.bic = std::isfinite(f.cal.rss) ? bic(f.cal.rss, n, n_eff, f.specs.size()) : std::numeric_limits<double>::infinity();
+            auto& c = *std::find_if(cands.begin(), cands.end(), [&](auto& x) { return x.effect == effect_name(f.variant.effects.back()); });
+            c.fitted = true;
+            c.rss = f.cal.rss;
+            c.bic = f.bic;
+            c.delta_bic_vs_base = f.bic - same.bic;
+            auto all = parameters_of(f, n_eff);
+            c.parameters.assign(all.end() - static_cast<long>(effect_specs_.at(f.variant.effects.back()).size()), all.end());
+            if (f.bic < same.bic - opt_.bic_threshold && (!winner || f.bic < winner->bic)) winner = &f;
+        }
+        std::stable_sort(cands.begin(), cands.end(), [](auto& a, auto& b) {
+            if (a.fitted != b.fitted) return a.fitted;
+            return a.fitted ? a.bic < b.bic : a.signature_score > b.signature_score;
+        });
+        for (const auto& c : cands) obs_.on_candidate(c);
+        if (step == 0) {
+            base_final = same;
+            step1_candidates = cands;
+            for (const auto& f : fits) step1_bics.emplace_back(std::string(effect_name(f.variant.effects.back())), f.bic);
+            step1_chosen_bic = winner ? winner->bic : same.bic;
+        }
+        if (!winner) {
+            current = same;
+            break;
+        }
+        current = *winner;
+    }
+
+    // 5. Report on one footing: n_eff from the final model's residual.
+    const double n_eff = effective_readings(current.cal.residual, ranges_);
+    const double bic_base = bic(base_final.cal.rss, n, n_eff, base_final.specs.size());
+    const double bic_final = bic(current.cal.rss, n, n_eff, current.specs.size());
+    rep.n_readings = static_cast<double>(n);
+    rep.n_effective = n_eff;
+    rep.base_parameters = parameters_of(base_final, n_eff);
+    rep.parameters = parameters_of(current, n_eff);
+    rep.error_before = phase_errors(layout_, base_final.cal.residual);
+    rep.error_after = phase_errors(layout_, current.cal.residual);
+    rep.nrmse_before = std::sqrt(base_final.cal.rss / static_cast<double>(n));
+    rep.nrmse_after = std::sqrt(current.cal.rss / static_cast<double>(n));
+    rep.delta_bic_vs_base = bic_final - bic_base;
+    rep.candidates = step1_candidates;
+    for (Effect e : current.variant.effects) rep.effects.emplace_back(effect_name(e));
+    // The missing physics is the headline; artefacts found alongside stay in `effects`.
+    for (Effect e : current.variant.effects)
+        if (!is_test_artefact(e)) {
+            rep.chosen_effect = std::string(effect_name(e));
+            break;
+        }
+    if (rep.chosen_effect == "unexplained" && !rep.effects.empty()) rep.chosen_effect = rep.effects.front();
+    const std::string first = rep.effects.empty() ? "" : rep.effects.front();
+    for (const auto& [name, b] : step1_bics)
+        if (name != first) rep.runners_up.push_back({name, b - step1_chosen_bic});
+    rep.runs_used = runs_;
+
+    std::ostringstream v;
+    v.setf(std::ios::fixed);
+    v.precision(1);
+    if (rep.effects.empty()) {
+        const PhaseError* worst = nullptr;
+        for (const auto& e : rep.error_after)
+            if (e.phase != "all" && (!worst || e.nrmse > worst->nrmse)) worst = &e;
+        v << "unexplained: no effect in the catalog lowers BIC by more than " << opt_.bic_threshold
+          << " (n_eff = " << n_eff << " of " << n << " readings); remaining NRMSE " << 100.0 * rep.nrmse_after << " %";
+        if (worst) v << ", largest in " << worst->curve << " " << worst->phase << " (" << 100.0 * worst->nrmse << " %)";
+    } else {
+        v << rep.chosen_effect << " explains the residual";
+        for (const auto& e : rep.effects)
+            if (e != rep.chosen_effect) v << " (with " << e << ")";
+        v << ": delta BIC " << rep.delta_bic_vs_base << " vs the calibrated base model, NRMSE " << 100.0 * rep.nrmse_before
+          << " % -> " << 100.0 * rep.nrmse_after << " %";
+        if (!rep.runners_up.empty()) {
+            auto next = std::min_element(rep.runners_up.begin(), rep.runners_up.end(),
+                                         [](auto& a, auto& b) { return a.delta_bic < b.delta_bic; });
+            v << "; next best " << next->effect << " is worse by " << next->delta_bic;
+        }
+    }
+    v << "; " << runs_ << " model runs";
+    if (failures_ > 0) v << " (" << failures_.load() << " failed)";
+    rep.verdict = v.str();
+    obs_.on_progress(100.0, "done");
+    return rep;
+}
+
+}  // namespace
+
+DiagnosisReport run_diagnosis(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& options,
+                              DiagnoseObserver& observer) {
+    if (options.budget_runs < 4) throw std::invalid_argument("budget_runs must be at least 4, got " + std::to_string(options.budget_runs));
+    if (options.refine_runs < 1) throw std::invalid_argument("refine_runs must be at least 1");
+    if (options.max_effects < 1) throw std::invalid_argument("max_effects must be at least 1");
+    Loop loop(lab, model, options, observer);
+    return loop.run();
+}
+
+}  // namespace triax::diagnose

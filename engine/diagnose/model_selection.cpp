@@ -1,0 +1,48 @@
+// Effective readings and BIC (formulas in model_selection.hpp).
+#include "engine/diagnose/model_selection.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace triax::diagnose {
+
+double effective_readings(const std::vector<double>& r) {
+    const std::size_t n = r.size();
+    if (n < 3) return static_cast<double>(n);
+    double mean = 0.0;
+    for (double v : r) mean += v;
+    mean /= static_cast<double>(n);
+    double c0 = 0.0, c1 = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        c0 += (r[i] - mean) * (r[i] - mean);
+        if (i + 1 < n) c1 += (r[i] - mean) * (r[i + 1] - mean);
+    }
+    // A constant residual has no noise to estimate correlation from: treat as fully correlated.
+    const double rho = c0 > 0.0 ? std::clamp(c1 / c0, 0.0, 0.95) : 0.95;
+    return std::max(1.0, static_cast<double>(n) * (1.0 - rho) / (1.0 + rho));
+}
+
+double effective_readings(const std::vector<double>& r, const std::vector<std::pair<std::size_t, std::size_t>>& ranges) {
+    double total = 0.0;
+    for (const auto& [a, b] : ranges) {
+        if (b > r.size() || a > b) throw std::out_of_range("effective_readings: series range outside the residual");
+        total += effective_readings(std::vector<double>(r.begin() + static_cast<long>(a), r.begin() + static_cast<long>(b)));
+    }
+    return total;
+}
+
+double residual_sum_of_squares(const std::vector<double>& r) {
+    double s = 0.0;
+    for (double v : r) s += v * v;
+    return s;
+}
+
+double bic(double rss, std::size_t n, double n_eff, std::size_t k) {
+    if (n == 0 || n_eff <= 1.0) throw std::invalid_argument("bic: needs more than one effective reading");
+    // Floor on the mean square: an exact fit must not give -infinity.
+    const double ms = std::max(rss / static_cast<double>(n), 1e-300);
+    return n_eff * std::log(ms) + static_cast<double>(k) * std::log(n_eff);
+}
+
+}  // namespace triax::diagnose

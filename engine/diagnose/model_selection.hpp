@@ -1,0 +1,28 @@
+#pragma once
+// Effective number of readings and BIC. Readings along a curve are autocorrelated (the
+// residual of a smooth misfit changes slowly), so counting every reading as independent
+// would make any extra parameter look significant. Each series contributes
+//   n_eff = n (1 - rho1) / (1 + rho1),  rho1 = lag-1 autocorrelation of its residual,
+// (the AR(1) variance-inflation result), rho1 clamped to [0, 0.95]. The BIC of a model
+// with k free parameters on the pooled normalised residual is
+//   BIC = n_eff ln(RSS / n) + k ln(n_eff)
+// with RSS / n the mean square per reading (the per-reading variance estimate; dividing
+// RSS by n_eff would mix the two counts). Models are compared with one n_eff for all,
+// taken from the best-fitting model's residual, so the comparison is on equal terms.
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace triax::diagnose {
+
+double effective_readings(const std::vector<double>& residual);
+
+// Sum of effective_readings over the series ranges of a stacked residual.
+double effective_readings(const std::vector<double>& residual,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& ranges);
+
+double residual_sum_of_squares(const std::vector<double>& residual);
+
+double bic(double rss, std::size_t n, double n_eff, std::size_t k);
+
+}  // namespace triax::diagnose

@@ -1,0 +1,51 @@
+#pragma once
+// The residual of a model against lab readings, as one fixed-length vector the calibration
+// can work on, with each reading labelled by curve and phase so errors can be reported per
+// phase. Each series is normalised by the range of its lab readings (NRMSE units), so a
+// deviator in Pa, a volumetric strain and a creep strain can be pooled.
+#include <string>
+#include <vector>
+
+#include "engine/diagnose/diagnosis.hpp"
+#include "engine/diagnose/lab_data.hpp"
+
+namespace triax::diagnose {
+
+enum class Quantity { Deviator, Volumetric, CreepStrain };
+
+// Phase of each reading, decided from the lab curve alone so that every model is scored
+// on the same split:
+//  deviator vs axial strain: pre_peak up to the (smoothed) peak of q, post_peak after it;
+//  volumetric vs axial strain: contraction up to the largest contraction, dilation after;
+//  creep strain vs time: instant (t <= 60 s), then primary while the strain rate is above
+//  twice its minimum and falling, steady around the minimum, tertiary once it has risen
+//  back above twice the minimum.
+struct ResidualSeries {
+    std::string label;     // "stress_strain@100kPa", "volumetric@100kPa", "creep-2@100kPa"
+    std::string unit;      // SI unit of lab/model: "Pa" or "-"
+    Quantity quantity = Quantity::Deviator;
+    int stage = 0;
+    double confining_pa = 0.0;
+    double scale = 1.0;    // range of the lab readings; residual / scale is what is pooled
+    std::vector<double> x, lab;
+    std::vector<std::string> phase;
+};
+
+// Lab side of the residual, built once per dataset. Throws std::invalid_argument when the
+// dataset has no usable curve (naming what is missing).
+std::vector<ResidualSeries> residual_layout(const LabDataset& lab);
+
+// Normalised residuals (model - lab) / scale, stacked in layout order. A reading the model
+// does not reach (curve missing, shorter strain or time range, non-finite value) gets the
+// penalty 1.0 (a full lab range), so the vector length never changes between models.
+// If `model_values` is given it receives the model value at each reading (NaN if missing).
+std::vector<double> normalised_residual(const std::vector<ResidualSeries>& layout, const LabDataset& predicted,
+                                        std::vector<std::vector<double>>* model_values = nullptr);
+
+// RMSE / NRMSE per series ("all") and per phase, from a stacked normalised residual.
+std::vector<PhaseError> phase_errors(const std::vector<ResidualSeries>& layout, const std::vector<double>& residual);
+
+// Index range [begin, end) of each series in the stacked vector.
+std::vector<std::pair<std::size_t, std::size_t>> series_ranges(const std::vector<ResidualSeries>& layout);
+
+}  // namespace triax::diagnose
