@@ -22,6 +22,9 @@ namespace triax::diagnose {
 
 namespace {
 
+// Below this share of the residual along its signature an effect is not worth fitting.
+constexpr double kMinimumScore = 0.05;
+
 // A model variant: the base plus a list of effects; parameters laid out base first.
 struct Variant {
     std::vector<Effect> effects;
@@ -220,17 +223,18 @@ DiagnosisReport Loop::run() {
 
     Fit current = base;
     Fit base_final = base;
-    std::vector<CandidateResult> step1_candidates;
-    std::vector<std::pair<std::string, double>> step1_bics;  // effect -> BIC, for runners-up
-    double step1_chosen_bic = 0.0;
+    // Per step: BIC of each fitted candidate, and of the step's winner, for runners-up.
+    std::vector<std::vector<std::pair<std::string, double>>> step_bics;
+    std::vector<double> step_winner_bic;
 
-    for (int step = 0; step < opt_.max_effects; ++step) {
+    for (int step = 1; step <= opt_.max_effects; ++step) {
         // 2. Signatures of the effects not yet in the model, at the current optimum.
         stage_ = "signatures";
         std::vector<Effect> pool;
         for (const auto& [e, specs] : effect_specs_)
             if (std::find(current.variant.effects.begin(), current.variant.effects.end(), e) == current.variant.effects.end())
                 pool.push_back(e);
+        if (pool.empty()) break;
         std::vector<CandidateResult> cands;
         std::vector<std::pair<double, Effect>> ranked;
         for (Effect e : pool) {
@@ -238,6 +242,7 @@ DiagnosisReport Loop::run() {
             v.effects.push_back(e);
             auto r = evaluate(v, {extended(current.cal.best, e)});
             CandidateResult c;
+            c.step = step;
             c.effect = std::string(effect_name(e));
             c.signature_score = r[0].empty() ? 0.0 : score_signature(current, r[0]);
             if (r[0].empty()) c.note = "signature run failed";
@@ -255,7 +260,7 @@ DiagnosisReport Loop::run() {
         std::vector<Fit> fits;
         for (std::size_t i = 0; i < ranked.size() && static_cast<int>(i) < opt_.max_candidates; ++i) {
             auto& c = *std::find_if(cands.begin(), cands.end(), [&](auto& x) { return x.effect == effect_name(ranked[i].second); });
-            if (ranked[i].first < 0.05) {
+            if (ranked[i].first < kMinimumScore) {
                 c.note = "signature does not match the residual (score < 0.05)";
                 continue;
             }
@@ -275,15 +280,18 @@ DiagnosisReport Loop::run() {
         const double n_eff = effective_readings(best_fit->cal.residual, ranges_);
         same.bic = bic(same.cal.rss, n, n_eff, same.specs.size());
         const Fit* winner = nullptr;
+        std::vector<std::pair<std::string, double>> bics;
         for (auto& f : fits) {
             f.bic = std::isfinite(f.cal.rss) ? bic(f.cal.rss, n, n_eff, f.specs.size()) : std::numeric_limits<double>::infinity();
             auto& c = *std::find_if(cands.begin(), cands.end(), [&](auto& x) { return x.effect == effect_name(f.variant.effects.back()); });
             c.fitted = true;
             c.rss = f.cal.rss;
+            c.nrmse = std::sqrt(f.cal.rss / static_cast<double>(n));
             c.bic = f.bic;
             c.delta_bic_vs_base = f.bic - same.bic;
             auto all = parameters_of(f, n_eff);
             c.parameters.assign(all.end() - static_cast<long>(effect_specs_.at(f.variant.effects.back()).size()), all.end());
+            bics.emplace_back(c.effect, f.bic);
             if (f.bic < same.bic - opt_.bic_threshold && (!winner || f.bic < winner->bic)) winner = &f;
         }
         std::stable_sort(cands.begin(), cands.end(), [](auto& a, auto& b) {
@@ -291,16 +299,24 @@ DiagnosisReport Loop::run() {
             return a.fitted ? a.bic < b.bic : a.signature_score > b.signature_score;
         });
         for (const auto& c : cands) obs_.on_candidate(c);
-        if (step == 0) {
-            base_final = same;
-            step1_candidates = cands;
-            for (const auto& f : fits) step1_bics.emplace_back(std::string(effect_name(f.variant.effects.back())), f.bic);
-            step1_chosen_bic = winner ? winner->bic : same.bic;
-        }
+        rep.candidates.insert(rep.candidates.end(), cands.begin(), cands.end());
+        SelectionStep st;
+        st.step = step;
+        st.nrmse_before = std::sqrt(same.cal.rss / static_cast<double>(n));
+        st.n_effective = n_eff;
+        if (step == 1) base_final = same;
+        step_bics.push_back(bics);
+        step_winner_bic.push_back(winner ? winner->bic : same.bic);
         if (!winner) {
+            st.nrmse_after = st.nrmse_before;
+            rep.steps.push_back(st);
             current = same;
             break;
         }
+        st.added = std::string(effect_name(winner->variant.effects.back()));
+        st.nrmse_after = std::sqrt(winner->cal.rss / static_cast<double>(n));
+        st.delta_bic = winner->bic - same.bic;
+        rep.steps.push_back(st);
         current = *winner;
     }
 
@@ -317,7 +333,6 @@ DiagnosisReport Loop::run() {
     rep.nrmse_before = std::sqrt(base_final.cal.rss / static_cast<double>(n));
     rep.nrmse_after = std::sqrt(current.cal.rss / static_cast<double>(n));
     rep.delta_bic_vs_base = bic_final - bic_base;
-    rep.candidates = step1_candidates;
     for (Effect e : current.variant.effects) rep.effects.emplace_back(effect_name(e));
     // The missing physics is the headline; artefacts found alongside stay in `effects`.
     for (Effect e : current.variant.effects)
@@ -326,9 +341,11 @@ DiagnosisReport Loop::run() {
             break;
         }
     if (rep.chosen_effect == "unexplained" && !rep.effects.empty()) rep.chosen_effect = rep.effects.front();
-    const std::string first = rep.effects.empty() ? "" : rep.effects.front();
-    for (const auto& [name, b] : step1_bics)
-        if (name != first) rep.runners_up.push_back({name, b - step1_chosen_bic});
+    // Runners-up: the other candidates of the step that selected the chosen effect.
+    for (std::size_t k = 0; k < rep.steps.size(); ++k)
+        if (rep.steps[k].added == rep.chosen_effect)
+            for (const auto& [name, b] : step_bics[k])
+                if (name != rep.chosen_effect) rep.runners_up.push_back({name, b - step_winner_bic[k]});
     rep.runs_used = runs_;
 
     std::ostringstream v;

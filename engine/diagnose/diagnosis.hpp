@@ -24,7 +24,7 @@ struct DiagnoseOptions {
     int budget_runs = 24;          // model evaluations for the base calibration (design + refinement)
     int refine_runs = 10;          // evaluations per augmented candidate fit
     int max_candidates = 3;        // top-ranked effects fitted as augmented models
-    int max_effects = 2;           // stepwise: effects added one at a time while BIC improves
+    int max_effects = 3;           // stepwise: effects added one at a time while BIC improves
     int concurrency = 1;           // model evaluations run at the same time
     int threads_per_run = 1;       // OpenMP threads inside one DEM run
     std::uint64_t seed = 1;
@@ -50,19 +50,31 @@ struct PhaseError {
 };
 
 struct CandidateResult {
+    int step = 1;                  // stepwise selection step (1 = against the base model)
     std::string effect;
     double signature_score = 0.0;  // |correlation| of residual with the effect's signature, 0..1
     bool fitted = false;
     std::vector<FittedParameter> parameters;  // effect parameters only
     double rss = 0.0;                         // normalised residual sum of squares after fit
     double bic = 0.0;
-    double delta_bic_vs_base = 0.0;           // negative = better than base
+    double delta_bic_vs_base = 0.0;           // vs the model of this step without it; negative = better
+    double nrmse = 0.0;                       // pooled NRMSE after fit
     std::string note;                         // why it was not fitted / failed
 };
 
 struct RunnerUp {
     std::string effect;
     double delta_bic = 0.0;  // BIC(runner-up) - BIC(chosen); positive = worse
+};
+
+// One step of the stepwise selection: the model before it, the effect kept (or none).
+struct SelectionStep {
+    int step = 1;
+    std::string added;           // effect kept at this step, "" if none earned its parameters
+    double nrmse_before = 0.0;   // pooled NRMSE of the model entering the step (refined)
+    double nrmse_after = 0.0;    // with the effect added
+    double delta_bic = 0.0;      // BIC(with) - BIC(without), n_eff of the step
+    double n_effective = 0.0;
 };
 
 struct DiagnosisReport {
@@ -74,7 +86,8 @@ struct DiagnosisReport {
     std::vector<PhaseError> error_after;        // final model
     double delta_bic_vs_base = 0.0;
     std::vector<RunnerUp> runners_up;
-    std::vector<CandidateResult> candidates;    // every effect considered, ranked
+    std::vector<CandidateResult> candidates;    // every effect considered, per step, ranked
+    std::vector<SelectionStep> steps;
     double n_readings = 0.0;
     double n_effective = 0.0;
     double nrmse_before = 0.0;                  // pooled over all curves
