@@ -8,6 +8,8 @@
 #include <random>
 #include <stdexcept>
 
+#include <Eigen/Dense>
+
 namespace triax::diagnose {
 
 namespace {
@@ -25,6 +27,11 @@ Eigen::VectorXd clamp_unit(Eigen::VectorXd u) {
 }
 
 // Gaussian-weighted least-squares Jacobian of the residual around point `c` from all runs.
+Eigen::VectorXd as_eigen(const std::vector<double>& v) {
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+std::vector<double> as_std(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+
 Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const std::vector<std::vector<double>>& residuals,
                                const Eigen::VectorXd& c, const std::vector<double>& rc, double width) {
     const Eigen::Index k = c.size();
@@ -33,7 +40,7 @@ Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const std::vector<std
     Eigen::MatrixXd rwd = Eigen::MatrixXd::Zero(n, k);
     for (std::size_t i = 0; i < h.points.size(); ++i) {
         if (!std::isfinite(h.point_rss[i])) continue;
-        const Eigen::VectorXd d = h.points[i] - c;
+        const Eigen::VectorXd d = as_eigen(h.points[i]) - c;
         const double dist2 = d.squaredNorm();
         if (dist2 == 0.0) continue;
         const double w = std::exp(-dist2 / (2.0 * width * width));
@@ -49,16 +56,16 @@ Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const std::vector<std
 
 }  // namespace
 
-std::vector<Eigen::VectorXd> latin_hypercube(int points, int dimensions, std::uint64_t seed) {
+std::vector<UnitPoint> latin_hypercube(int points, int dimensions, std::uint64_t seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> uni(0.0, 1.0);
-    std::vector<Eigen::VectorXd> out(static_cast<std::size_t>(std::max(points, 0)), Eigen::VectorXd(dimensions));
+    std::vector<UnitPoint> out(static_cast<std::size_t>(std::max(points, 0)), UnitPoint(static_cast<std::size_t>(dimensions)));
     std::vector<int> perm(static_cast<std::size_t>(std::max(points, 0)));
     for (int j = 0; j < dimensions; ++j) {
         std::iota(perm.begin(), perm.end(), 0);
         std::shuffle(perm.begin(), perm.end(), rng);
         for (int i = 0; i < points; ++i)
-            out[static_cast<std::size_t>(i)][j] = (perm[static_cast<std::size_t>(i)] + uni(rng)) / points;
+            out[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = (perm[static_cast<std::size_t>(i)] + uni(rng)) / points;
     }
     return out;
 }
@@ -81,7 +88,7 @@ double parameter_derivative(const ParameterSpec& s, double u) {
 
 CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSettings& st,
                             const std::function<void(int)>& progress) {
-    const Eigen::Index k = st.start.size();
+    const Eigen::Index k = static_cast<Eigen::Index>(st.start.size());
     if (k == 0) throw std::invalid_argument("calibrate: no parameter to calibrate (empty start point)");
     CalibrationResult res;
     std::vector<std::vector<double>> residuals;
@@ -89,10 +96,12 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
 
     auto run_batch = [&](const std::vector<Eigen::VectorXd>& batch) {
         if (batch.empty()) return;
-        auto out = evaluate(batch);
+        std::vector<UnitPoint> points;
+        for (const auto& b : batch) points.push_back(as_std(b));
+        auto out = evaluate(points);
         if (out.size() != batch.size()) throw std::logic_error("calibrate: evaluator returned the wrong batch size");
         for (std::size_t i = 0; i < batch.size(); ++i) {
-            res.points.push_back(batch[i]);
+            res.points.push_back(points[i]);
             res.point_rss.push_back(rss_of(out[i]));
             residuals.push_back(std::move(out[i]));
             if (res.point_rss.back() < res.point_rss[best]) best = res.points.size() - 1;
@@ -102,14 +111,15 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     };
 
     // Design: the start point first, so `best` starts there; then the space-filling part.
-    std::vector<Eigen::VectorXd> design{clamp_unit(st.start)};
+    const Eigen::VectorXd start = as_eigen(st.start);
+    std::vector<Eigen::VectorXd> design{clamp_unit(start)};
     if (st.axial_design)
         for (Eigen::Index j = 0; j < k; ++j) {
-            Eigen::VectorXd p = st.start;
-            p[j] = st.start[j] + (st.start[j] + st.initial_radius <= 1.0 ? st.initial_radius : -st.initial_radius);
+            Eigen::VectorXd p = start;
+            p[j] = start[j] + (start[j] + st.initial_radius <= 1.0 ? st.initial_radius : -st.initial_radius);
             design.push_back(clamp_unit(p));
         }
-    for (auto& p : latin_hypercube(st.design_runs, static_cast<int>(k), st.seed)) design.push_back(p);
+    for (auto& p : latin_hypercube(st.design_runs, static_cast<int>(k), st.seed)) design.push_back(as_eigen(p));
     const std::size_t batch_size = static_cast<std::size_t>(std::max(1, st.batch));
     for (std::size_t a = 0; a < design.size(); a += batch_size * 4)
         run_batch({design.begin() + static_cast<long>(a),
@@ -119,7 +129,7 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     const int budget = res.runs + std::max(0, st.refine_runs);
     static const double kDamping[] = {1e-3, 1e-1, 1.0, 10.0};
     while (res.runs < budget && radius > 1e-3 && std::isfinite(res.point_rss[best])) {
-        const Eigen::VectorXd c = res.points[best];
+        const Eigen::VectorXd c = as_eigen(res.points[best]);
         const Eigen::VectorXd rc = Eigen::Map<const Eigen::VectorXd>(residuals[best].data(),
                                                                      static_cast<Eigen::Index>(residuals[best].size()));
         const Eigen::MatrixXd J = local_jacobian(res, residuals, c, residuals[best], std::max(radius, 0.05));
@@ -152,8 +162,10 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     res.best = res.points[best];
     res.residual = residuals[best];
     res.rss = res.point_rss[best];
-    if (std::isfinite(res.rss))
-        res.jacobian = local_jacobian(res, residuals, res.best, res.residual, std::max(radius, 0.1));
+    if (std::isfinite(res.rss)) {
+        const Eigen::MatrixXd J = local_jacobian(res, residuals, as_eigen(res.best), res.residual, std::max(radius, 0.1));
+        res.jacobian.assign(J.data(), J.data() + J.size());
+    }
     return res;
 }
 
@@ -162,16 +174,19 @@ std::vector<double> parameter_std(const std::vector<ParameterSpec>& specs, const
     const Eigen::Index k = static_cast<Eigen::Index>(specs.size());
     std::vector<double> out(specs.size(), 0.0);
     const double n = static_cast<double>(r.residual.size());
-    if (r.jacobian.cols() != k || n <= static_cast<double>(k)) return out;
+    if (static_cast<Eigen::Index>(r.best.size()) != k || r.jacobian.size() != r.residual.size() * specs.size() ||
+        n <= static_cast<double>(k))
+        return out;
+    const Eigen::Map<const Eigen::MatrixXd> J(r.jacobian.data(), static_cast<Eigen::Index>(r.residual.size()), k);
     const double s2 = r.rss / (n - static_cast<double>(k)) * (n / std::max(n_effective, 1.0));
-    Eigen::MatrixXd jtj = r.jacobian.transpose() * r.jacobian;
+    Eigen::MatrixXd jtj = J.transpose() * J;
     jtj.diagonal().array() += 1e-12 * std::max(jtj.trace(), 1e-12);
     const Eigen::MatrixXd cov = s2 * jtj.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
     for (Eigen::Index j = 0; j < k; ++j) {
         const auto& s = specs[static_cast<std::size_t>(j)];
         // An unidentified parameter is reported with its whole range as uncertainty.
         const double su = std::min(std::sqrt(std::max(cov(j, j), 0.0)), 1.0);
-        out[static_cast<std::size_t>(j)] = std::min(su * std::abs(parameter_derivative(s, r.best[j])),
+        out[static_cast<std::size_t>(j)] = std::min(su * std::abs(parameter_derivative(s, r.best[static_cast<std::size_t>(j)])),
                                                     std::abs(s.upper - s.lower));
     }
     return out;

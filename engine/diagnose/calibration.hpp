@@ -15,18 +15,20 @@
 //     parameter units by the derivative of the unit-cube map; the n / n_eff factor
 //     accounts for correlated readings along a curve.
 // Runs of one batch are independent, so the evaluator may run them concurrently.
+// The interface uses std::vector, not Eigen types: the engine is compiled with
+// -march=native and its callers may not be, and Eigen objects allocated under one
+// alignment setting must not be freed under another.
 #include <cstdint>
 #include <functional>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "engine/diagnose/effect.hpp"
 
 namespace triax::diagnose {
 
 // Residual vectors for a batch of unit-cube points; an empty vector marks a failed run.
-using BatchEvaluator = std::function<std::vector<std::vector<double>>(const std::vector<Eigen::VectorXd>&)>;
+using UnitPoint = std::vector<double>;
+using BatchEvaluator = std::function<std::vector<std::vector<double>>(const std::vector<UnitPoint>&)>;
 
 struct CalibrationSettings {
     int design_runs = 12;       // Latin hypercube points (0: start point and refinement only)
@@ -34,18 +36,19 @@ struct CalibrationSettings {
     int batch = 2;              // runs per refinement batch (different damping values)
     double initial_radius = 0.25;  // trust radius in unit-cube coordinates
     std::uint64_t seed = 1;
-    Eigen::VectorXd start;      // starting point in the unit cube (required)
+    UnitPoint start;            // starting point in the unit cube (required)
     // Extra design points placed +-radius along each axis around the start point (useful
     // when refining from a previous optimum, where a space-filling design would waste runs).
     bool axial_design = false;
 };
 
 struct CalibrationResult {
-    Eigen::VectorXd best;                 // unit-cube optimum
+    UnitPoint best;                       // unit-cube optimum
     std::vector<double> residual;         // residual at the optimum
     double rss = 0.0;
-    Eigen::MatrixXd jacobian;             // d residual / d u at the optimum (surrogate)
-    std::vector<Eigen::VectorXd> points;  // every run, in order
+    std::vector<double> jacobian;         // d residual / d u at the optimum (surrogate),
+                                          // column-major residual.size() x best.size()
+    std::vector<UnitPoint> points;        // every run, in order
     std::vector<double> point_rss;        // RSS per run (infinity if it failed)
     int runs = 0;
 };
@@ -64,6 +67,6 @@ std::vector<double> parameter_std(const std::vector<ParameterSpec>& specs, const
                                   double n_effective);
 
 // Seeded Latin hypercube in [0,1]^k (one stratum per point and axis, random inside it).
-std::vector<Eigen::VectorXd> latin_hypercube(int points, int dimensions, std::uint64_t seed);
+std::vector<UnitPoint> latin_hypercube(int points, int dimensions, std::uint64_t seed);
 
 }  // namespace triax::diagnose

@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include <Eigen/Dense>
+
 #include "engine/diagnose/calibration.hpp"
 #include "engine/diagnose/model_selection.hpp"
 #include "engine/diagnose/residuals.hpp"
@@ -64,10 +66,10 @@ private:
 
     // Predicted dataset at unit-cube point u: one engine run per distinct physical point
     // (cached, so artefact-only changes cost nothing), then the artefacts as post-processing.
-    LabDataset predict(const Variant& v, const Eigen::VectorXd& u) {
+    LabDataset predict(const Variant& v, const UnitPoint& u) {
         const auto specs = specs_of(v);
         std::vector<double> values(specs.size());
-        for (std::size_t j = 0; j < specs.size(); ++j) values[j] = to_parameter(specs[j], u[static_cast<Eigen::Index>(j)]);
+        for (std::size_t j = 0; j < specs.size(); ++j) values[j] = to_parameter(specs[j], u[j]);
         ModelPoint point;
         point.base.assign(values.begin(), values.begin() + static_cast<long>(base_specs_.size()));
         std::vector<std::pair<Effect, std::vector<double>>> artefacts;
@@ -101,13 +103,13 @@ private:
         return predicted;
     }
 
-    std::vector<double> residual_at(const Variant& v, const Eigen::VectorXd& u) {
+    std::vector<double> residual_at(const Variant& v, const UnitPoint& u) {
         return normalised_residual(layout_, predict(v, u));
     }
 
     // Independent evaluations spread over opt.concurrency threads; a failed run gives an
     // empty residual (the calibration treats it as infinitely bad).
-    std::vector<std::vector<double>> evaluate(const Variant& v, const std::vector<Eigen::VectorXd>& batch) {
+    std::vector<std::vector<double>> evaluate(const Variant& v, const std::vector<UnitPoint>& batch) {
         if (obs_.cancelled()) throw DiagnosisCancelled{};
         std::vector<std::vector<double>> out(batch.size());
         std::atomic<std::size_t> next{0};
@@ -136,7 +138,7 @@ private:
         if (obs_.cancelled()) throw DiagnosisCancelled{};
     }
 
-    Fit fit(const Variant& v, const Eigen::VectorXd& start, int design_runs, int refine_runs, bool axial) {
+    Fit fit(const Variant& v, const UnitPoint& start, int design_runs, int refine_runs, bool axial) {
         Fit f{v, specs_of(v), {}, 0.0};
         CalibrationSettings st;
         st.start = start;
@@ -146,28 +148,27 @@ private:
         st.seed = opt_.seed;
         st.axial_design = axial;
         st.initial_radius = axial ? 0.15 : 0.25;
-        f.cal = calibrate([&](const std::vector<Eigen::VectorXd>& b) { return evaluate(v, b); }, st);
+        f.cal = calibrate([&](const std::vector<UnitPoint>& b) { return evaluate(v, b); }, st);
         return f;
     }
 
-    Eigen::VectorXd nominal_unit(const std::vector<ParameterSpec>& specs) const {
-        Eigen::VectorXd u(static_cast<Eigen::Index>(specs.size()));
-        for (std::size_t j = 0; j < specs.size(); ++j) u[static_cast<Eigen::Index>(j)] = to_unit(specs[j], specs[j].nominal);
+    UnitPoint nominal_unit(const std::vector<ParameterSpec>& specs) const {
+        UnitPoint u(specs.size());
+        for (std::size_t j = 0; j < specs.size(); ++j) u[j] = to_unit(specs[j], specs[j].nominal);
         return u;
     }
 
-    Eigen::VectorXd extended(const Eigen::VectorXd& u, Effect e) const {
-        const Eigen::VectorXd extra = nominal_unit(effect_specs_.at(e));
-        Eigen::VectorXd out(u.size() + extra.size());
-        out << u, extra;
-        return out;
+    UnitPoint extended(UnitPoint u, Effect e) const {
+        const UnitPoint extra = nominal_unit(effect_specs_.at(e));
+        u.insert(u.end(), extra.begin(), extra.end());
+        return u;
     }
 
     std::vector<FittedParameter> parameters_of(const Fit& f, double n_eff) const {
         const auto stds = parameter_std(f.specs, f.cal, n_eff);
         std::vector<FittedParameter> out;
         for (std::size_t j = 0; j < f.specs.size(); ++j)
-            out.push_back({f.specs[j].name, f.specs[j].unit, to_parameter(f.specs[j], f.cal.best[static_cast<Eigen::Index>(j)]),
+            out.push_back({f.specs[j].name, f.specs[j].unit, to_parameter(f.specs[j], f.cal.best[j]),
                            stds[j]});
         return out;
     }
@@ -198,8 +199,9 @@ double Loop::score_signature(const Fit& current, const std::vector<double>& with
     const Eigen::Index n = static_cast<Eigen::Index>(r0.size());
     Eigen::VectorXd s(n), r(n);
     for (Eigen::Index i = 0; i < n; ++i) s[i] = with_effect[static_cast<std::size_t>(i)] - r0[static_cast<std::size_t>(i)], r[i] = r0[static_cast<std::size_t>(i)];
-    const Eigen::MatrixXd& J = current.cal.jacobian;
-    if (J.rows() == n && J.cols() > 0) {
+    const Eigen::Index k = static_cast<Eigen::Index>(current.cal.best.size());
+    if (k > 0 && static_cast<Eigen::Index>(current.cal.jacobian.size()) == n * k) {
+        const Eigen::Map<const Eigen::MatrixXd> J(current.cal.jacobian.data(), n, k);
         Eigen::MatrixXd jtj = J.transpose() * J;
         jtj.diagonal().array() += 1e-9 * std::max(jtj.trace(), 1e-12);
         s -= J * jtj.ldlt().solve(J.transpose() * s);

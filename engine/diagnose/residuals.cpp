@@ -91,7 +91,8 @@ void push_series(std::vector<ResidualSeries>& out, ResidualSeries s, const std::
 }
 
 const LabCurve* matching_curve(const LabDataset& d, const ResidualSeries& s) {
-    const CurveKind kind = s.quantity == Quantity::CreepStrain ? CurveKind::Creep : CurveKind::Shear;
+    const bool creep = s.quantity == Quantity::CreepStrain || s.quantity == Quantity::CreepDeformation;
+    const CurveKind kind = creep ? CurveKind::Creep : CurveKind::Shear;
     for (const auto& c : d.curves)
         if (c.kind == kind && (kind == CurveKind::Shear || c.stage == s.stage) &&
             std::abs(c.confining_pa - s.confining_pa) <= 0.02 * std::max(s.confining_pa, 1.0))
@@ -114,18 +115,21 @@ std::vector<ResidualSeries> residual_layout(const LabDataset& lab) {
                 push_series(out, {"volumetric" + tag, "-", Quantity::Volumetric, 0, c.confining_pa, 1.0, {}, {}, {}},
                             c.axial_strain, c.volumetric_strain);
         } else {
-            if (c.time_s.empty() || c.axial_strain.empty()) continue;
-            push_series(out,
-                        {"creep-" + std::to_string(c.stage) + tag, "-", Quantity::CreepStrain, c.stage, c.confining_pa,
-                         1.0, {}, {}, {}},
-                        c.time_s, c.axial_strain);
+            if (c.time_s.empty()) continue;
+            const std::string label = "creep-" + std::to_string(c.stage) + tag;
+            if (!c.axial_strain.empty())
+                push_series(out, {label, "-", Quantity::CreepStrain, c.stage, c.confining_pa, 1.0, {}, {}, {}}, c.time_s,
+                            c.axial_strain);
+            else if (!c.axial_deformation_m.empty())
+                push_series(out, {label, "m", Quantity::CreepDeformation, c.stage, c.confining_pa, 1.0, {}, {}, {}},
+                            c.time_s, c.axial_deformation_m);
         }
     }
     if (out.empty())
         throw std::invalid_argument(
             "lab dataset '" + lab.name +
             "' has no usable curve: a shear curve needs axial_strain with deviator or volumetric strain, "
-            "a creep curve needs time and axial_strain, each with at least 3 finite readings");
+            "a creep curve needs time and axial strain or deformation, each with at least 3 finite readings");
     return out;
 }
 
@@ -136,10 +140,12 @@ std::vector<double> normalised_residual(const std::vector<ResidualSeries>& layou
     for (const auto& s : layout) {
         std::vector<double> model(s.x.size(), std::numeric_limits<double>::quiet_NaN());
         if (const LabCurve* c = matching_curve(predicted, s)) {
-            const std::vector<double>& xm = s.quantity == Quantity::CreepStrain ? c->time_s : c->axial_strain;
-            const std::vector<double>& ym = s.quantity == Quantity::Deviator     ? c->deviator_pa
-                                            : s.quantity == Quantity::Volumetric ? c->volumetric_strain
-                                                                                 : c->axial_strain;
+            const bool creep = s.quantity == Quantity::CreepStrain || s.quantity == Quantity::CreepDeformation;
+            const std::vector<double>& xm = creep ? c->time_s : c->axial_strain;
+            const std::vector<double>& ym = s.quantity == Quantity::Deviator          ? c->deviator_pa
+                                            : s.quantity == Quantity::Volumetric      ? c->volumetric_strain
+                                            : s.quantity == Quantity::CreepDeformation ? c->axial_deformation_m
+                                                                                      : c->axial_strain;
             if (!xm.empty() && xm.size() == ym.size()) {
                 const auto m = compare_curve(xm, ym, s.x, s.lab);
                 // compare_curve keeps reading order and drops out-of-range readings; match by abscissa.

@@ -11,7 +11,9 @@
 
 namespace triax::diagnose {
 
-enum class Quantity { Deviator, Volumetric, CreepStrain };
+// Creep curves are compared on axial strain when the lab gives it, else on axial
+// deformation (m) - GDS exports often carry only the displacement.
+enum class Quantity { Deviator, Volumetric, CreepStrain, CreepDeformation };
 
 // Phase of each reading, decided from the lab curve alone so that every model is scored
 // on the same split:
@@ -22,7 +24,7 @@ enum class Quantity { Deviator, Volumetric, CreepStrain };
 //  back above twice the minimum.
 struct ResidualSeries {
     std::string label;     // "stress_strain@100kPa", "volumetric@100kPa", "creep-2@100kPa"
-    std::string unit;      // SI unit of lab/model: "Pa" or "-"
+    std::string unit;      // SI unit of lab/model: "Pa", "-" or "m"
     Quantity quantity = Quantity::Deviator;
     int stage = 0;
     double confining_pa = 0.0;

@@ -8,16 +8,18 @@ using namespace triax::diagnose;
 
 namespace {
 
-// SI -> lab unit for curve errors: Pa -> kPa, strain [-] -> %.
+// SI -> lab unit for curve errors: Pa -> kPa, strain [-] -> %, deformation m -> mm.
 struct LabUnit { std::string name; double factor; };
 LabUnit lab_unit(const std::string& si) {
     if (si == "Pa") return {"kPa", 1e-3};
     if (si == "-") return {"%", 100.0};
+    if (si == "m") return {"mm", 1e3};
     return {si, 1.0};
 }
 std::string si_unit(const std::string& lab, double& factor) {
     if (lab == "kPa") return factor = 1e3, "Pa";
     if (lab == "%") return factor = 1e-2, "-";
+    if (lab == "mm") return factor = 1e-3, "m";
     factor = 1.0;
     return lab;
 }

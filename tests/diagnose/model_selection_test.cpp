@@ -1,0 +1,44 @@
+// Effective readings and BIC.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "engine/diagnose/model_selection.hpp"
+
+using namespace triax::diagnose;
+
+TEST_CASE("white noise keeps nearly every reading; a smooth misfit keeps few", "[diagnose][bic]") {
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> nd;
+    std::vector<double> white(2000), smooth(2000);
+    for (std::size_t i = 0; i < white.size(); ++i) {
+        white[i] = nd(rng);
+        smooth[i] = std::sin(static_cast<double>(i) / 300.0);
+    }
+    CHECK(effective_readings(white) == Approx(2000.0).epsilon(0.1));
+    CHECK(effective_readings(smooth) < 60.0);  // rho1 clamped at 0.95: n / 39
+}
+
+TEST_CASE("AR(1) residual: n_eff follows n (1 - rho) / (1 + rho)", "[diagnose][bic]") {
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> nd;
+    std::vector<double> r(20000);
+    double x = 0;
+    for (auto& v : r) v = x = 0.5 * x + nd(rng);
+    CHECK(effective_readings(r) == Approx(20000.0 / 3.0).epsilon(0.05));
+    // Per series: two halves sum to about the whole.
+    const double split = effective_readings(r, {{0, 10000}, {10000, 20000}});
+    CHECK(split == Approx(20000.0 / 3.0).epsilon(0.05));
+}
+
+TEST_CASE("BIC rewards a real improvement and charges each parameter ln(n_eff)", "[diagnose][bic]") {
+    const double b0 = bic(10.0, 100, 50.0, 3);
+    CHECK(b0 == Approx(50.0 * std::log(0.1) + 3 * std::log(50.0)));
+    // Same fit, one more parameter: worse by ln(n_eff).
+    CHECK(bic(10.0, 100, 50.0, 4) - b0 == Approx(std::log(50.0)));
+    // Halving RSS with one more parameter: better.
+    CHECK(bic(5.0, 100, 50.0, 4) < b0);
+    CHECK_THROWS(bic(1.0, 0, 1.0, 1));
+    CHECK(std::isfinite(bic(0.0, 10, 5.0, 1)));
+}
