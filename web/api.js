@@ -1,0 +1,94 @@
+// Thin client for the triaxd REST API (docs/api.md). Errors come back as RFC 7807
+// problem details; they are thrown as ProblemError so callers can place the message
+// beside the field named by its JSON pointer (`field`) or the file line (`line`).
+
+export class ProblemError extends Error {
+  constructor(status, problem) {
+    super(problem.detail || problem.title || `HTTP ${status}`);
+    this.status = status;
+    this.problem = problem;
+  }
+}
+
+async function parse(response) {
+  const type = response.headers.get('Content-Type') || '';
+  const body = type.includes('json') ? await response.json().catch(() => ({})) : await response.text();
+  if (!response.ok) {
+    const problem = typeof body === 'object' ? body : { title: response.statusText, detail: String(body).slice(0, 300) };
+    throw new ProblemError(response.status, problem);
+  }
+  return body;
+}
+
+export async function getJSON(url) { return parse(await fetch(url, { headers: { Accept: 'application/json' } })); }
+
+export async function postJSON(url, body) {
+  return parse(await fetch(url, {
+    method: 'POST',
+    headers: { 'Content-Type': 'application/json', Accept: 'application/json' },
+    body: JSON.stringify(body ?? {}),
+  }));
+}
+
+export async function postRaw(url, body, contentType) {
+  return parse(await fetch(url, { method: 'POST', headers: { 'Content-Type': contentType }, body }));
+}
+
+export async function del(url) { return parse(await fetch(url, { method: 'DELETE' })); }
+
+// The unit is the suffix of every lab-facing field name; the label shows it once.
+const UNITS = [
+  ['_pct_min', '%/min'], ['_mm_min', 'mm/min'], ['_kPa_min', 'kPa/min'], ['_kPa_s', 'kPa/s'], ['_mm_s', 'mm/s'], ['_m_s', 'm/s'],
+  ['_kPa', 'kPa'], ['_MPa', 'MPa'], ['_GPa', 'GPa'], ['_Pa', 'Pa'], ['_mm3', 'mm³'], ['_mm', 'mm'],
+  ['_pct', '%'], ['_min', 'min'], ['_s', 's'], ['_J', 'J'], ['_kg_m3', 'kg/m³'], ['_m', 'm'],
+  ['_N_m', 'N/m'], ['_N', 'N'], ['_deg', '°'], ['_rad_s', 'rad/s'], ['_1_s', '1/s'],
+];
+
+export function splitUnit(name) {
+  for (const [suffix, unit] of UNITS) {
+    if (name.endsWith(suffix)) return { base: name.slice(0, -suffix.length), unit };
+  }
+  return { base: name, unit: '' };
+}
+
+export function axisLabel(column) {
+  const { base, unit } = splitUnit(column);
+  const words = base.replace(/_/g, ' ');
+  return unit ? `${words} (${unit})` : words;
+}
+
+export function formatEta(seconds) {
+  if (seconds == null || !Number.isFinite(Number(seconds))) return '—';
+  let s = Math.max(0, Math.round(Number(seconds)));
+  if (s < 60) return `${s} s`;
+  const h = Math.floor(s / 3600); s -= h * 3600;
+  const m = Math.floor(s / 60); s -= m * 60;
+  return h ? `${h} h ${m} min` : `${m} min ${s} s`;
+}
+
+// A progress cell used everywhere long work appears: stage, bar with %, ETA.
+export function progressElement(stage, pct, eta) {
+  const wrap = document.createElement('span');
+  wrap.className = 'progress';
+  const p = Number.isFinite(Number(pct)) ? Number(pct) : 0;
+  const bar = document.createElement('progress');
+  bar.max = 100; bar.value = p;
+  const text = document.createElement('span');
+  text.className = 'progress-text';
+  text.textContent = `${stage ? stage + ' · ' : ''}${p.toFixed(1)} % · ETA ${formatEta(eta)}`;
+  wrap.append(bar, text);
+  return wrap;
+}
+
+export function el(tag, attrs = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v == null || v === false) continue;
+    if (k === 'class') e.className = v;
+    else if (k.startsWith('on')) e.addEventListener(k.slice(2), v);
+    else if (k === 'dataset') Object.assign(e.dataset, v);
+    else e.setAttribute(k, v === true ? '' : v);
+  }
+  for (const c of children.flat()) if (c != null) e.append(c instanceof Node ? c : String(c));
+  return e;
+}

@@ -1,0 +1,130 @@
+// Page shell: hash routes (#/new, #/runs, #/runs/7, #/compare, #/diagnose), the new-run
+// form, the runs list and the activity line in the header that shows every active run's
+// stage, progress and ETA wherever the user is on the page.
+
+import { el, getJSON, postJSON, ProblemError, progressElement } from './api.js';
+import { SchemeForm } from './scheme_form.js';
+import { RunView } from './run_view.js';
+import { CompareView } from './compare_view.js';
+import { DiagnosisView } from './diagnosis_view.js';
+
+const main = document.getElementById('main');
+const activity = document.getElementById('activity');
+let current = null; // the view object of the current route (closed on navigation)
+
+// ---- New run ---------------------------------------------------------------------------
+
+async function showNewRun() {
+  const presetBox = el('div', { class: 'presets', id: 'presets' });
+  const formBox = el('div', { id: 'scheme-form' });
+  const formError = el('div', { class: 'field-error', id: 'form-error', role: 'alert' });
+  const threads = el('input', { type: 'number', id: 'run-threads', value: 1, min: 1, max: 64, step: 1 });
+  const submit = el('button', { type: 'submit', id: 'submit-run' }, 'Submit run');
+  const form = el('form', { id: 'new-run', novalidate: true }, presetBox, formBox,
+    el('div', { class: 'row submit-row' }, el('label', {}, 'threads ', threads), submit), formError);
+  main.replaceChildren(el('h2', {}, 'New triaxial test'),
+    el('p', { class: 'hint' }, 'Start from one of the paper\'s groups A–E; every field can be edited. Units are in the labels, limits beside each field. Compression is positive.'),
+    form);
+  const schemeForm = new SchemeForm(formBox);
+  let presets = [];
+  try {
+    const [p, schema] = await Promise.all([getJSON('/presets'), getJSON('/schema/scheme').catch(() => ({}))]);
+    presets = p.presets || [];
+    schemeForm.setSchema(schema);
+  } catch (e) { formError.textContent = `cannot load presets: ${e.message}`; return; }
+  const pick = name => {
+    const preset = presets.find(x => x.name === name);
+    if (!preset) return;
+    for (const b of presetBox.querySelectorAll('button')) b.classList.toggle('active', b.dataset.preset === name);
+    schemeForm.load(preset.scheme);
+    formError.textContent = '';
+  };
+  presetBox.replaceChildren(el('span', {}, 'Preset: '), ...presets.map(p =>
+    el('button', { type: 'button', class: 'preset', title: p.description || '', dataset: { preset: p.name }, onclick: () => pick(p.name) },
+      `${p.name}`)));
+  if (presets.length) pick(presets[0].name);
+
+  form.addEventListener('submit', async ev => {
+    ev.preventDefault();
+    schemeForm.clearErrors();
+    formError.textContent = '';
+    submit.disabled = true;
+    try {
+      const body = { scheme: schemeForm.scheme() };
+      const t = Number(threads.value);
+      if (t > 0) body.threads = t;
+      const res = await postJSON('/runs', body);
+      location.hash = `#/runs/${res.id}`;
+    } catch (e) {
+      const field = e instanceof ProblemError ? e.problem.field : null;
+      // A pointer into the request body: the form holds the scheme, so drop "/scheme".
+      const pointer = field ? field.replace(/^\/scheme(?=\/|$)/, '') : null;
+      const placed = pointer != null && schemeForm.showError(pointer, e.message);
+      formError.textContent = `${e.status ? e.status + ' ' : ''}${e.problem?.title || 'error'}: ${e.message}${field ? ` (${field})` : ''}`;
+      if (!placed && field === '/threads') formError.textContent += ' — see threads';
+    } finally { submit.disabled = false; }
+  });
+  return { close() {} };
+}
+
+// ---- Runs list -------------------------------------------------------------------------
+
+function showRuns() {
+  const table = el('table', { class: 'grid', id: 'runs-table' });
+  const error = el('div', { class: 'field-error' });
+  main.replaceChildren(el('h2', {}, 'Runs'), table, error);
+  let timer = null;
+  const refresh = async () => {
+    try {
+      const { runs } = await getJSON('/runs');
+      table.replaceChildren(
+        el('tr', {}, ['id', 'name', 'status', 'progress (stage · % · ETA)', 'created', ''].map(h => el('th', {}, h))),
+        ...runs.map(r => el('tr', { dataset: { runId: r.id } },
+          el('td', {}, el('a', { href: `#/runs/${r.id}` }, `#${r.id}`)),
+          el('td', {}, r.name || ''),
+          el('td', {}, el('span', { class: `status status-${r.status}` }, r.status)),
+          el('td', {}, progressElement(r.stage, r.progress_pct, r.eta_s)),
+          el('td', {}, r.created_at || ''),
+          el('td', {}, (r.status === 'queued' || r.status === 'running')
+            ? el('button', { type: 'button', onclick: () => postJSON(`/runs/${r.id}/cancel`).then(refresh) }, 'cancel')
+            : el('button', { type: 'button', onclick: () => postJSON(`/runs/${r.id}/rerun`).then(refresh) }, 're-run')))));
+      error.textContent = '';
+    } catch (e) { error.textContent = e.message; }
+    timer = setTimeout(refresh, 2000);
+  };
+  refresh();
+  return { close() { clearTimeout(timer); } };
+}
+
+// ---- Activity line (progress of active runs on every page) ------------------------------
+
+async function pollActivity() {
+  try {
+    const { runs } = await getJSON('/runs');
+    const active = runs.filter(r => r.status === 'running' || r.status === 'queued');
+    activity.replaceChildren(...(active.length ? active.map(r =>
+      el('a', { href: `#/runs/${r.id}`, class: 'activity-item' }, `#${r.id} ${r.status} `, progressElement(r.stage, r.progress_pct, r.eta_s)))
+      : [el('span', { class: 'hint' }, 'no active runs')]));
+  } catch { activity.replaceChildren(el('span', { class: 'error' }, 'service unreachable')); }
+  setTimeout(pollActivity, 3000);
+}
+
+// ---- Router ----------------------------------------------------------------------------
+
+async function route() {
+  if (current && current.close) current.close();
+  current = null;
+  const hash = location.hash || '#/new';
+  for (const a of document.querySelectorAll('nav a')) a.classList.toggle('active', hash.startsWith(a.getAttribute('href')));
+  const m = hash.match(/^#\/runs\/(\d+)/);
+  if (m) current = new RunView(main, Number(m[1]));
+  else if (hash.startsWith('#/runs')) current = showRuns();
+  else if (hash.startsWith('#/compare')) current = new CompareView(main);
+  else if (hash.startsWith('#/diagnose')) current = new DiagnosisView(main);
+  else current = await showNewRun();
+}
+
+window.addEventListener('hashchange', route);
+getJSON('/health').then(h => { document.getElementById('version').textContent = `triaxd ${h.version || ''}`; }).catch(() => {});
+route();
+pollActivity();

@@ -1,0 +1,165 @@
+// Lab readings against a run: upload a dataset (POST /datasets), pick a run and a
+// dataset, and show what POST /comparisons returns: the metrics table, the overlay of
+// model and lab for one curve, and its residual. Downloads: the residual table as CSV,
+// each plot as PNG/CSV.
+
+import { el, getJSON, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
+import { Plot, downloadBlob } from './plot.js';
+
+const CONTENT_TYPES = { json: 'application/json', csv: 'text/csv', gds: 'text/csv', ags: 'text/plain' };
+
+function guessFormat(fileName) {
+  const ext = (fileName.split('.').pop() || '').toLowerCase();
+  if (ext === 'json') return 'json';
+  if (ext === 'ags') return 'ags';
+  return '';
+}
+
+const num = v => (typeof v === 'number' ? Number(v.toPrecision(5)) : v == null ? '—' : String(v));
+
+export class CompareView {
+  constructor(container) {
+    this.container = container;
+    this.comparison = null;
+    this.build();
+    this.refreshLists();
+  }
+
+  build() {
+    this.fileInput = el('input', { type: 'file', id: 'dataset-file', accept: '.csv,.txt,.json,.ags,.gds' });
+    this.nameInput = el('input', { type: 'text', id: 'dataset-name', placeholder: 'name (default: file name)' });
+    this.formatSelect = el('select', { id: 'dataset-format' },
+      ['', 'csv', 'gds', 'ags', 'json'].map(f => el('option', { value: f }, f || 'sniff')));
+    this.uploadError = el('div', { class: 'field-error', id: 'upload-error', role: 'alert' });
+    this.uploadInfo = el('div', { class: 'hint', id: 'upload-info' });
+    const upload = el('section', { class: 'card' },
+      el('h3', {}, 'Upload lab readings'),
+      el('p', { class: 'hint' }, 'Plain CSV with units in the headers (kind, stage, confining_kPa, time_min, axial_strain_pct, axial_deformation_mm, q_kPa, volumetric_strain_pct), a GDS-Lab export, AGS4 (TREG/TRET) or JSON.'),
+      el('div', { class: 'row' }, this.fileInput, this.nameInput, el('label', {}, 'format ', this.formatSelect),
+        el('button', { type: 'button', id: 'upload-button', onclick: () => this.upload() }, 'Upload')),
+      this.uploadError, this.uploadInfo);
+
+    this.datasetTable = el('table', { class: 'grid', id: 'dataset-table' });
+    this.runSelect = el('select', { id: 'compare-run' });
+    this.datasetSelect = el('select', { id: 'compare-dataset' });
+    this.compareError = el('div', { class: 'field-error', role: 'alert' });
+    const pick = el('section', { class: 'card' },
+      el('h3', {}, 'Compare a run with a dataset'),
+      el('div', { class: 'row' }, el('label', {}, 'run ', this.runSelect), el('label', {}, 'dataset ', this.datasetSelect),
+        el('button', { type: 'button', id: 'compare-button', onclick: () => this.compare() }, 'Compare'),
+        el('button', { type: 'button', onclick: () => this.refreshLists() }, 'Refresh lists')),
+      this.compareError);
+
+    this.metrics = el('div', { id: 'comparison-metrics' });
+    this.curveSelect = el('select', { id: 'comparison-curve' });
+    this.curveSelect.addEventListener('change', () => this.showCurve());
+    const grid = el('div', { class: 'plot-grid' });
+    const result = el('section', { class: 'card', id: 'comparison-result' },
+      el('h3', {}, 'Comparison'), this.metrics,
+      el('div', { class: 'row' }, el('label', {}, 'curve ', this.curveSelect),
+        el('button', { type: 'button', id: 'residual-csv', onclick: () => this.downloadResiduals() }, 'Download residuals CSV')),
+      grid);
+    this.overlay = new Plot(grid, { id: 'plot-overlay', title: 'Model vs lab', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'overlay' });
+    this.residual = new Plot(grid, { id: 'plot-residual', title: 'Residual (model − lab)', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'residual' });
+
+    this.container.replaceChildren(el('h2', {}, 'Lab readings'), upload,
+      el('section', { class: 'card' }, el('h3', {}, 'Datasets'), this.datasetTable), pick, result);
+  }
+
+  async refreshLists() {
+    try {
+      const [{ runs }, { datasets }] = await Promise.all([getJSON('/runs'), getJSON('/datasets')]);
+      const keepRun = this.runSelect.value, keepSet = this.datasetSelect.value;
+      this.runSelect.replaceChildren(...runs.map(r => el('option', { value: r.id }, `#${r.id} ${r.name || ''} (${r.status})`)));
+      const firstDone = runs.find(r => r.status === 'done');
+      this.runSelect.value = keepRun && runs.some(r => String(r.id) === keepRun) ? keepRun : firstDone ? String(firstDone.id) : '';
+      this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
+      if (keepSet && datasets.some(d => String(d.id) === keepSet)) this.datasetSelect.value = keepSet;
+      this.renderDatasets(datasets);
+    } catch (e) { this.compareError.textContent = e.message; }
+  }
+
+  renderDatasets(datasets) {
+    const curveText = d => (d.curves || []).map(c => `${c.kind}${c.stage != null ? ' ' + c.stage : ''}: ${c.points} pts`).join('; ');
+    this.datasetTable.replaceChildren(
+      el('tr', {}, ['id', 'name', 'curves', ''].map(h => el('th', {}, h))),
+      ...datasets.map(d => el('tr', {}, el('td', {}, d.id), el('td', {}, d.name || ''), el('td', {}, curveText(d)),
+        el('td', {}, el('button', { type: 'button', onclick: async () => { await del(`/datasets/${d.id}`); this.refreshLists(); } }, 'delete')))));
+  }
+
+  async upload() {
+    this.uploadError.textContent = '';
+    this.uploadInfo.textContent = '';
+    const file = this.fileInput.files[0];
+    if (!file) { this.uploadError.textContent = 'choose a file first'; return; }
+    const format = this.formatSelect.value || guessFormat(file.name);
+    const name = this.nameInput.value.trim() || file.name.replace(/\.[^.]*$/, '');
+    const params = new URLSearchParams({ name });
+    if (format) params.set('format', format);
+    try {
+      const text = await file.text();
+      const res = await postRaw(`/datasets?${params}`, text, CONTENT_TYPES[format] || 'text/csv');
+      this.uploadInfo.textContent = `dataset #${res.id} "${res.name}": ` +
+        (res.curves || []).map(c => `${c.kind}${c.stage != null ? ' ' + c.stage : ''} (${c.points} points)`).join(', ');
+      this.uploadInfo.dataset.datasetId = res.id;
+      await this.refreshLists();
+      this.datasetSelect.value = String(res.id);
+    } catch (e) {
+      const p = e instanceof ProblemError ? e.problem : {};
+      const where = [p.line != null ? `line ${p.line}` : '', p.column != null ? `column ${p.column}` : ''].filter(Boolean).join(', ');
+      this.uploadError.textContent = `${file.name}${where ? ' ' + where : ''}: ${e.message}`;
+    }
+  }
+
+  async compare() {
+    this.compareError.textContent = '';
+    const run_id = Number(this.runSelect.value), dataset_id = Number(this.datasetSelect.value);
+    if (!run_id || !dataset_id) { this.compareError.textContent = 'pick a run and a dataset'; return; }
+    try {
+      this.show(await postJSON('/comparisons', { run_id, dataset_id }));
+    } catch (e) { this.compareError.textContent = e.message; }
+  }
+
+  show(comparison) {
+    this.comparison = comparison;
+    const curves = comparison.curves || [];
+    const cols = ['curve', 'stage', 'n', 'rmse', 'nrmse', 'r2', 'max_error', 'unit'];
+    this.metrics.replaceChildren(
+      el('p', { class: 'hint' }, `comparison #${comparison.id}: run #${comparison.run_id} vs dataset #${comparison.dataset_id}`),
+      el('table', { class: 'grid', id: 'metrics-table' },
+        el('tr', {}, cols.map(c => el('th', {}, c === 'r2' ? 'R²' : c.replace('_', ' ')))),
+        curves.map(c => el('tr', {}, cols.map(k => el('td', {}, num(c[k])))))));
+    this.curveSelect.replaceChildren(...curves.map((c, i) => el('option', { value: i }, `${c.curve}${c.stage != null ? ' stage ' + c.stage : ''}`)));
+    this.showCurve();
+  }
+
+  showCurve() {
+    const c = (this.comparison?.curves || [])[Number(this.curveSelect.value) || 0];
+    this.overlay.clear();
+    this.residual.clear();
+    if (!c) return;
+    const rows = c.residual || [];
+    const xl = axisLabel(c.x || 'x');
+    const yl = `${c.curve}${c.unit ? ' (' + c.unit + ')' : ''}`;
+    const isTime = /time/.test(c.x || '');
+    for (const p of [this.overlay, this.residual]) {
+      p.options.xLabel = xl;
+      p.options.xLog = isTime && p.logBox.checked;
+    }
+    this.overlay.options.yLabel = yl;
+    this.residual.options.yLabel = `residual ${c.unit ? '(' + c.unit + ')' : ''}`;
+    this.overlay.setSeries('model', rows.map(r => [r[0], r[1]]));
+    this.overlay.setSeries('lab', rows.map(r => [r[0], r[2]]), { style: 'points' });
+    this.residual.setSeries('model − lab', rows.map(r => [r[0], r[3]]), { style: 'points' });
+    this.residual.setSeries('zero', rows.length ? [[rows[0][0], 0], [rows[rows.length - 1][0], 0]] : [], { color: '#999', dash: [4, 4] });
+  }
+
+  downloadResiduals() {
+    if (!this.comparison) return;
+    const lines = ['curve,stage,x_name,x,model,lab,residual,unit'];
+    for (const c of this.comparison.curves || []) {
+      for (const r of c.residual || []) lines.push([c.curve, c.stage ?? '', c.x, r[0], r[1], r[2], r[3], c.unit || ''].join(','));
+    }
+    downloadBlob(new Blob([lines.join('\n') + '\n'], { type: 'text/csv' }), `comparison${this.comparison.id}_residuals.csv`);
+  }
+}

@@ -1,0 +1,172 @@
+// The test-scheme form. It is generated from a preset scheme (GET /presets) with the
+// JSON Schema (GET /schema/scheme) supplying limits, enums and descriptions, so a field
+// added to the scheme on the server appears here without editing the page. Every input
+// carries data-pointer = its JSON pointer; the server's 422 problem details name that
+// pointer in `field`, and the message is shown beside that input.
+
+import { el, splitUnit } from './api.js';
+
+const escapeToken = t => String(t).replace(/~/g, '~0').replace(/\//g, '~1');
+
+function resolveRef(schema, root) {
+  let s = schema;
+  for (let guard = 0; s && s.$ref && guard < 16; guard++) {
+    const path = s.$ref.replace(/^#\/?/, '').split('/').filter(Boolean);
+    s = path.reduce((node, key) => (node ? node[key.replace(/~1/g, '/').replace(/~0/g, '~')] : undefined), root);
+  }
+  if (s && Array.isArray(s.allOf)) s = Object.assign({}, ...s.allOf.map(x => resolveRef(x, root)), s);
+  return s || {};
+}
+
+function childSchema(schema, key, root) {
+  const s = resolveRef(schema, root);
+  if (typeof key === 'number') return resolveRef(s.items || {}, root);
+  return resolveRef((s.properties || {})[key] || {}, root);
+}
+
+function limitsText(s) {
+  const parts = [];
+  const lo = s.exclusiveMinimum ?? s.minimum, hi = s.exclusiveMaximum ?? s.maximum;
+  if (lo != null && hi != null) parts.push(`${s.exclusiveMinimum != null ? '(' : '['}${lo} … ${hi}${s.exclusiveMaximum != null ? ')' : ']'}`);
+  else if (lo != null) parts.push(`${s.exclusiveMinimum != null ? '>' : '≥'} ${lo}`);
+  else if (hi != null) parts.push(`${s.exclusiveMaximum != null ? '<' : '≤'} ${hi}`);
+  if (s.minItems != null || s.maxItems != null) parts.push(`${s.minItems ?? 0}…${s.maxItems ?? '∞'} items`);
+  return parts.join(' ');
+}
+
+// Advisory only: the server remains the authority and its 422 is always shown.
+function outOfRange(s, v) {
+  if (typeof v !== 'number' || !Number.isFinite(v)) return false;
+  if (s.minimum != null && v < s.minimum) return true;
+  if (s.maximum != null && v > s.maximum) return true;
+  if (s.exclusiveMinimum != null && v <= s.exclusiveMinimum) return true;
+  if (s.exclusiveMaximum != null && v >= s.exclusiveMaximum) return true;
+  return false;
+}
+
+export class SchemeForm {
+  constructor(container) {
+    this.container = container;
+    this.schema = {};
+    this.value = {};
+  }
+
+  setSchema(schema) { this.schema = schema || {}; }
+
+  load(scheme) {
+    this.value = structuredClone(scheme);
+    this.render();
+  }
+
+  scheme() { return structuredClone(this.value); }
+
+  render() {
+    this.container.replaceChildren(this.renderNode(this.value, this.schema, '', ''));
+  }
+
+  setAt(pointer, v) {
+    const keys = pointer.split('/').slice(1).map(k => k.replace(/~1/g, '/').replace(/~0/g, '~'));
+    let node = this.value;
+    for (let i = 0; i < keys.length - 1; i++) node = node[Array.isArray(node) ? Number(keys[i]) : keys[i]];
+    const last = keys[keys.length - 1];
+    node[Array.isArray(node) ? Number(last) : last] = v;
+  }
+
+  renderNode(value, schema, pointer, key) {
+    const s = resolveRef(schema, this.schema);
+    if (Array.isArray(value) && value.some(v => v && typeof v === 'object')) return this.renderObjectArray(value, s, pointer, key);
+    if (value && typeof value === 'object' && !Array.isArray(value)) {
+      const box = el('fieldset', { class: 'group', dataset: { pointer } });
+      if (key !== '') box.append(el('legend', {}, String(key).replace(/_/g, ' ')));
+      if (s.description && key !== '') box.append(el('p', { class: 'hint' }, s.description));
+      for (const [k, v] of Object.entries(value)) {
+        box.append(this.renderNode(v, childSchema(s, k, this.schema), `${pointer}/${escapeToken(k)}`, k));
+      }
+      return box;
+    }
+    return this.renderLeaf(value, s, pointer, String(key));
+  }
+
+  renderObjectArray(arr, s, pointer, key) {
+    const box = el('fieldset', { class: 'group array', dataset: { pointer } });
+    box.append(el('legend', {}, `${String(key).replace(/_/g, ' ')} (${arr.length})`));
+    const lim = limitsText(s);
+    if (lim) box.append(el('span', { class: 'limits' }, lim));
+    arr.forEach((item, i) => {
+      const inner = this.renderNode(item, childSchema(s, i, this.schema), `${pointer}/${i}`, `${key} ${i + 1}`);
+      inner.append(el('button', { type: 'button', class: 'remove-item', onclick: () => { arr.splice(i, 1); this.render(); } }, 'remove'));
+      box.append(inner);
+    });
+    if (arr.length) {
+      box.append(el('button', { type: 'button', class: 'add-item', onclick: () => { arr.push(structuredClone(arr[arr.length - 1])); this.render(); } }, `add ${key}`));
+    }
+    box.append(el('span', { class: 'field-error', role: 'alert' }));
+    return box;
+  }
+
+  renderLeaf(value, s, pointer, key) {
+    const { base, unit } = splitUnit(key);
+    const id = 'f' + pointer.replace(/[^A-Za-z0-9]+/g, '_');
+    const error = el('span', { class: 'field-error', role: 'alert' });
+    const limits = el('span', { class: 'limits' }, [limitsText(s), unit].filter(Boolean).join(' '));
+    let input;
+    const type = Array.isArray(s.type) ? s.type.find(t => t !== 'null') : s.type;
+    if (Array.isArray(s.enum)) {
+      input = el('select', { id }, s.enum.map(o => el('option', { value: JSON.stringify(o), selected: o === value }, String(o))));
+      input.addEventListener('change', () => this.setAt(pointer, JSON.parse(input.value)));
+    } else if (typeof value === 'boolean' || type === 'boolean') {
+      input = el('input', { id, type: 'checkbox', checked: !!value });
+      input.addEventListener('change', () => this.setAt(pointer, input.checked));
+    } else if (Array.isArray(value)) {
+      input = el('input', { id, type: 'text', value: value.join(', ') });
+      input.addEventListener('input', () => {
+        const parts = input.value.split(',').map(t => t.trim()).filter(t => t !== '');
+        this.setAt(pointer, parts.map(t => (Number.isFinite(Number(t)) ? Number(t) : t)));
+      });
+    } else if (typeof value === 'number' || type === 'number' || type === 'integer') {
+      input = el('input', { id, type: 'number', step: 'any', value: value ?? '', min: s.minimum ?? s.exclusiveMinimum, max: s.maximum ?? s.exclusiveMaximum });
+      const check = () => {
+        const raw = input.value.trim();
+        const v = raw === '' ? null : Number(raw);
+        this.setAt(pointer, v);
+        const bad = v != null && outOfRange(s, v);
+        input.classList.toggle('out-of-range', bad);
+        input.parentElement?.classList.remove('has-error');
+        error.textContent = bad ? `outside the limits ${limitsText(s)}` : '';
+      };
+      input.addEventListener('input', check);
+    } else {
+      input = el('input', { id, type: 'text', value: value ?? '' });
+      input.addEventListener('input', () => this.setAt(pointer, input.value === '' && value === null ? null : input.value));
+    }
+    input.dataset.pointer = pointer;
+    input.name = pointer;
+    const label = el('label', { for: id, title: s.description || pointer }, base.replace(/_/g, ' ') + (unit ? ` (${unit})` : ''));
+    return el('div', { class: 'field', dataset: { pointer } }, label, input, limits, error);
+  }
+
+  clearErrors() {
+    for (const e of this.container.querySelectorAll('.field-error')) e.textContent = '';
+    for (const e of this.container.querySelectorAll('.has-error')) e.classList.remove('has-error');
+  }
+
+  // Place the message beside the field named by the pointer, or the nearest enclosing
+  // group when the pointer names a whole object or array. Returns false if nothing fits.
+  showError(pointer, message) {
+    let p = pointer || '';
+    while (true) {
+      const holder = [...this.container.querySelectorAll('[data-pointer]')]
+        .find(e => e.dataset.pointer === p && (e.classList.contains('field') || e.classList.contains('group')));
+      if (holder) {
+        const slot = holder.querySelector(':scope > .field-error') || holder.appendChild(el('span', { class: 'field-error', role: 'alert' }));
+        slot.textContent = message;
+        holder.classList.add('has-error');
+        holder.scrollIntoView({ block: 'center', behavior: 'smooth' });
+        holder.querySelector('input, select')?.focus({ preventScroll: true });
+        return true;
+      }
+      if (p === '') return false;
+      p = p.slice(0, p.lastIndexOf('/'));
+    }
+  }
+}
