@@ -15,6 +15,9 @@ function guessFormat(fileName) {
   return '';
 }
 
+// What the model-vs-lab y axis shows for each compared curve.
+const CURVE_NAMES = { stress_strain: 'q', volumetric: 'volumetric strain', creep: 'axial deformation' };
+
 const num = v => (typeof v === 'number' ? Number(v.toPrecision(5)) : v == null ? '—' : String(v));
 
 export class CompareView {
@@ -140,11 +143,12 @@ export class CompareView {
     if (!c) return;
     const rows = c.residual || [];
     const xl = axisLabel(c.x || 'x');
-    const yl = `${c.curve}${c.unit ? ' (' + c.unit + ')' : ''}`;
+    const yl = `${CURVE_NAMES[c.curve] || c.curve.replace(/_/g, ' ')}${c.unit ? ' (' + c.unit + ')' : ''}`;
     const isTime = /time/.test(c.x || '');
     for (const p of [this.overlay, this.residual]) {
       p.options.xLabel = xl;
       p.options.xLog = isTime && p.logBox.checked;
+      p.logBox.parentElement.hidden = !isTime;
     }
     this.overlay.options.yLabel = yl;
     this.residual.options.yLabel = `residual ${c.unit ? '(' + c.unit + ')' : ''}`;

@@ -128,6 +128,7 @@ export class Plot {
       x0 = Math.pow(10, Math.floor(Math.log10(x0)));
       x1 = Math.pow(10, Math.ceil(Math.log10(x1)));
     } else if (x1 - x0 < 1e-12) { x0 -= 1; x1 += 1; }
+    else { const xpad = (x1 - x0) * 0.015; x0 -= xpad; x1 += xpad; } // keep edge markers whole
     if (y1 - y0 < 1e-12) { const d = Math.abs(y0) * 0.1 || 1; y0 -= d; y1 += d; }
     const ypad = (y1 - y0) * 0.05;
     return { x0, x1, y0: y0 - ypad, y1: y1 + ypad };

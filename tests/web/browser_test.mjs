@@ -22,11 +22,14 @@ const RUN_TIMEOUT_MS = Number(process.env.TRIAX_WEB_RUN_TIMEOUT_MS || 120000);
 
 // What makes the scheme tiny, by field name: the rule's value, clamped to the field's own
 // limits so the test follows the schema if the server tightens them.
+// Array fields (e.g. stage_durations_min) keep their length: each entry gets the value.
 const TINY = [
   [/particle_count$|particles$/, 150],
-  [/duration_min$/, 1],
-  [/(max|final|target)_axial_strain_pct$/, 1],
+  [/durations?_min$/, 1],
+  [/(max|final|target)_axial_strain_pct$/, 2],
 ];
+// A value the schema cannot accept, to see the 422 land beside its field.
+const INVALID = [[/target_porosity$/, '1.5'], [/particle_count$|particles$/, '-5']];
 
 let failures = 0;
 const log = (...a) => console.log('[browser-test]', ...a);
@@ -64,36 +67,41 @@ try {
   check(unitLabels > 0, `fields show their units (${unitLabels} with kPa/mm/%/min)`);
   await page.screenshot({ path: path.join(shots, '01_new_run_form.png'), fullPage: true });
 
-  const countPointer = pointers.find(p => TINY[0][0].test(p));
-  check(!!countPointer, `a particle-count field exists (${countPointer})`);
-  if (countPointer) {
-    await page.fill(`#scheme-form input[data-pointer="${countPointer}"]`, '-5');
+  const [badPointer, badValue] = INVALID.map(([re, v]) => [pointers.find(p => re.test(p)), v]).find(([p]) => p) || [];
+  check(!!badPointer, `a field to make invalid exists (${badPointer})`);
+  if (badPointer) {
+    await page.fill(`#scheme-form input[data-pointer="${badPointer}"]`, badValue);
     await page.click('#submit-run');
     await page.waitForFunction(() => document.querySelector('#form-error')?.textContent.trim().length > 0, null, { timeout: 15000 });
-    const beside = await page.$eval(`.field[data-pointer="${countPointer}"]`, f => ({
+    const beside = await page.$eval(`.field[data-pointer="${badPointer}"]`, f => ({
       has: f.classList.contains('has-error'), text: f.querySelector('.field-error')?.textContent || '' }));
     log('422 shown:', await page.textContent('#form-error'));
-    check(beside.has && beside.text.length > 0, `the 422 message is shown beside ${countPointer}: "${beside.text}"`);
+    check(beside.has && beside.text.length > 0, `the 422 message is shown beside ${badPointer}: "${beside.text}"`);
     check(page.url().endsWith('/') || !/#\/runs\/\d+/.test(page.url()), 'an invalid scheme does not start a run');
     await page.screenshot({ path: path.join(shots, '02_validation_error.png'), fullPage: false });
+    await page.click('#presets button.preset >> nth=0'); // back to the valid preset
   }
 
   // ---- 2. a tiny run through the form, plots grow live -----------------------------
-  const changed = await page.$$eval('#scheme-form input[type=number][data-pointer]', (inputs, rules) => {
+  const changed = await page.$$eval('#scheme-form input[data-pointer]', (inputs, rules) => {
     const out = [];
     for (const input of inputs) {
       for (const [src, v] of rules) {
         if (!new RegExp(src).test(input.dataset.pointer)) continue;
-        let value = v;
-        if (input.min !== '' && value < Number(input.min)) value = Number(input.min);
-        if (input.max !== '' && value > Number(input.max)) value = Number(input.max);
-        out.push([input.dataset.pointer, value]);
+        if (input.type === 'number') {
+          let value = v;
+          if (input.min !== '' && value < Number(input.min)) value = Number(input.min);
+          if (input.max !== '' && value > Number(input.max)) value = Number(input.max);
+          out.push([input.dataset.pointer, String(value)]);
+        } else if (input.type === 'text' && /^[\d.eE+\-\s,]+$/.test(input.value)) {
+          out.push([input.dataset.pointer, input.value.split(',').map(() => v).join(', ')]);
+        }
         break;
       }
     }
     return out;
   }, TINY.map(([re, v]) => [re.source, v]));
-  for (const [pointer, value] of changed) await page.fill(`#scheme-form input[data-pointer="${pointer}"]`, String(value));
+  for (const [pointer, value] of changed) await page.fill(`#scheme-form input[data-pointer="${pointer}"]`, value);
   log('tiny scheme:', changed.map(([p, v]) => `${p}=${v}`).join(' '));
   await page.click('#submit-run');
   await page.waitForURL(/#\/runs\/\d+$/, { timeout: 15000 }).catch(async () => {
