@@ -58,7 +58,8 @@ export function axisLabel(column) {
 }
 
 export function formatEta(seconds) {
-  if (seconds == null || !Number.isFinite(Number(seconds))) return '—';
+  // Unknown ETA arrives as null or a negative number.
+  if (seconds == null || !Number.isFinite(Number(seconds)) || Number(seconds) < 0) return '—';
   let s = Math.max(0, Math.round(Number(seconds)));
   if (s < 60) return `${s} s`;
   const h = Math.floor(s / 3600); s -= h * 3600;

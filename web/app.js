@@ -7,6 +7,7 @@ import { SchemeForm } from './scheme_form.js';
 import { RunView } from './run_view.js';
 import { CompareView } from './compare_view.js';
 import { DiagnosisView } from './diagnosis_view.js';
+import { downloadBlob } from './plot.js';
 
 const main = document.getElementById('main');
 const activity = document.getElementById('activity');
@@ -20,7 +21,20 @@ async function showNewRun() {
   const formError = el('div', { class: 'field-error', id: 'form-error', role: 'alert' });
   const threads = el('input', { type: 'number', id: 'run-threads', value: 1, min: 1, max: 64, step: 1 });
   const submit = el('button', { type: 'submit', id: 'submit-run' }, 'Submit run');
-  const form = el('form', { id: 'new-run', novalidate: true }, presetBox, formBox,
+  // The same scheme as JSON: for pasting a saved scheme or editing what the form cannot.
+  const jsonArea = el('textarea', { id: 'scheme-json', rows: 18, spellcheck: 'false' });
+  const jsonError = el('span', { class: 'field-error' });
+  const jsonBox = el('details', { class: 'json-box' }, el('summary', {}, 'Scheme as JSON'), jsonArea,
+    el('div', { class: 'row' },
+      el('button', { type: 'button', onclick: () => { jsonArea.value = JSON.stringify(schemeForm.scheme(), null, 2); } }, 'From form'),
+      el('button', { type: 'button', onclick: () => {
+        try { schemeForm.load(JSON.parse(jsonArea.value)); jsonError.textContent = ''; } catch (e) { jsonError.textContent = e.message; }
+      } }, 'To form'),
+      el('button', { type: 'button', onclick: () => downloadBlob(new Blob([JSON.stringify(schemeForm.scheme(), null, 2)], { type: 'application/json' }),
+        `${(schemeForm.scheme().name || 'scheme').replace(/[^A-Za-z0-9_-]+/g, '_')}.json`) }, 'Download JSON'),
+      jsonError));
+  jsonBox.addEventListener('toggle', () => { if (jsonBox.open) jsonArea.value = JSON.stringify(schemeForm.scheme(), null, 2); });
+  const form = el('form', { id: 'new-run', novalidate: true }, presetBox, formBox, jsonBox,
     el('div', { class: 'row submit-row' }, el('label', {}, 'threads ', threads), submit), formError);
   main.replaceChildren(el('h2', {}, 'New triaxial test'),
     el('p', { class: 'hint' }, 'Start from one of the paper\'s groups A–E; every field can be edited. Units are in the labels, limits beside each field. Compression is positive.'),

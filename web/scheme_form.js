@@ -74,7 +74,9 @@ export class SchemeForm {
 
   renderNode(value, schema, pointer, key) {
     const s = resolveRef(schema, this.schema);
-    if (Array.isArray(value) && value.some(v => v && typeof v === 'object')) return this.renderObjectArray(value, s, pointer, key);
+    const itemSchema = resolveRef(s.items || {}, this.schema);
+    const objectItems = itemSchema.type === 'object' || itemSchema.properties;
+    if (Array.isArray(value) && (objectItems || value.some(v => v && typeof v === 'object'))) return this.renderObjectArray(value, s, pointer, key);
     if (value && typeof value === 'object' && !Array.isArray(value)) {
       const box = el('fieldset', { class: 'group', dataset: { pointer } });
       if (key !== '') box.append(el('legend', {}, String(key).replace(/_/g, ' ')));
@@ -97,9 +99,16 @@ export class SchemeForm {
       inner.append(el('button', { type: 'button', class: 'remove-item', onclick: () => { arr.splice(i, 1); this.render(); } }, 'remove'));
       box.append(inner);
     });
-    if (arr.length) {
-      box.append(el('button', { type: 'button', class: 'add-item', onclick: () => { arr.push(structuredClone(arr[arr.length - 1])); this.render(); } }, `add ${key}`));
-    }
+    // A new item copies the last one, or is built from the item schema's defaults.
+    const fresh = () => {
+      if (arr.length) return structuredClone(arr[arr.length - 1]);
+      const props = resolveRef(s.items || {}, this.schema).properties || {};
+      return Object.fromEntries(Object.entries(props).map(([k, p]) => {
+        const ps = resolveRef(p, this.schema);
+        return [k, ps.default ?? (ps.type === 'string' ? '' : ps.type === 'boolean' ? false : ps.minimum ?? 0)];
+      }));
+    };
+    box.append(el('button', { type: 'button', class: 'add-item', onclick: () => { arr.push(fresh()); this.render(); } }, `add ${key}`));
     box.append(el('span', { class: 'field-error', role: 'alert' }));
     return box;
   }
