@@ -46,6 +46,7 @@ public:
           base_specs_(model.base_parameters()) {
         if (base_specs_.empty()) throw std::invalid_argument("forward model has no base parameter to calibrate");
         for (Effect e : kAllEffects) {
+            if (model.includes(e)) continue;
             auto specs = is_test_artefact(e) ? artefact_parameters(e) : model.effect_parameters(e);
             if (!specs.empty()) effect_specs_[e] = std::move(specs);
         }

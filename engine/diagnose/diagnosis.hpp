@@ -27,6 +27,7 @@ struct DiagnoseOptions {
     int max_effects = 3;           // stepwise: effects added one at a time while BIC improves
     int concurrency = 1;           // model evaluations run at the same time
     int threads_per_run = 1;       // OpenMP threads inside one DEM run
+    int max_particles = 0;         // DEM: cap on soil particles per run (0 = the scheme's)
     std::uint64_t seed = 1;
     double bic_threshold = 10.0;   // an effect is kept only if it lowers BIC by more than this
 };

@@ -28,6 +28,8 @@ public:
     // Parameters of a physical effect; empty if the model cannot represent it (it is then
     // skipped). Never called for test artefacts.
     virtual std::vector<ParameterSpec> effect_parameters(Effect e) const = 0;
+    // Effects the model already contains (switched on in its scheme): not proposed again.
+    virtual bool includes(Effect) const { return false; }
     // Predicted curves, one per lab curve it can reproduce, identified by (kind, stage,
     // confining_pa) like the lab's. Shear curves: axial_strain, deviator_pa,
     // volumetric_strain. Creep curves: time_s, axial_strain (and axial_deformation_m).
