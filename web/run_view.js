@@ -56,7 +56,17 @@ export class RunView {
       progressElement(run.stage, run.progress_pct, run.eta_s), ' ',
       active ? el('button', { type: 'button', onclick: () => postJSON(`/runs/${this.id}/cancel`).then(() => this.refreshStatus()) }, 'Cancel') : null,
       !active ? el('button', { type: 'button', onclick: async () => { const r = await postJSON(`/runs/${this.id}/rerun`); location.hash = `#/runs/${r.id}`; } }, 'Re-run') : null,
+      this.stageText(),
       run.error ? el('span', { class: 'error' }, ` ${run.error}`) : null].filter(x => x != null));
+  }
+
+  // The creep stage's load, as the `stage` event announces it.
+  stageText() {
+    const d = this.stageInfo;
+    if (!d || d.stress_level == null) return null;
+    const parts = [`stage ${d.stage}`, `stress level ${d.stress_level}`];
+    if (d.q_target_kPa != null) parts.push(`q target ${Number(d.q_target_kPa).toFixed(1)} kPa`);
+    return el('span', { class: 'hint', id: 'stage-info' }, parts.join(' · '));
   }
 
   async refreshStatus() {
@@ -81,7 +91,7 @@ export class RunView {
     });
     on('status', d => { if (this.run) this.renderHeader(Object.assign({}, this.run, d)); });
     on('progress', d => { if (this.run) this.renderHeader(Object.assign({}, this.run, { status: 'running' }, d)); });
-    on('stage', d => { if (this.run) this.renderHeader(Object.assign({}, this.run, { stage: d.stage })); });
+    on('stage', d => { this.stageInfo = d; if (this.run) this.renderHeader(Object.assign({}, this.run, { stage: d.stage })); });
     on('shear', d => {
       this.qPlot.append('q model', d.axial_strain_pct, d.q_kPa);
       this.vPlot.append('εv model', d.axial_strain_pct, d.volumetric_strain_pct);
