@@ -1,0 +1,169 @@
+#pragma once
+// The linear contact law with PFC semantics, as an evaluator struct: parameters in
+// LinearContact::Params, physics in evaluate(). The loop (World) computes the pair
+// kinematics and owns the history slots; the law only turns them into forces.
+//
+//   Fn = kn * overlap + Fd,   Fd = -2 beta sqrt(m_eff kn) v_n        (compression > 0)
+//   Fs <- rotate(Fs) - ks * v_s dt,  |Fs| <= mu Fn  (Coulomb slider, unbonded only)
+//   contact bond (if intact): tension allowed; breaks when -Fn_el >= sn (1 - damage)
+//     (tension) or |Fs| >= ss (1 - damage) (shear); then frictional.
+//   rolling resistance (kRolling): M <- rotate(M) - kr dtheta_b,  kr = f ks Rbar^2,
+//     |M| <= mu_r Rbar Fn.
+// n points from the first body (i, or the wall) to the second (j, or the particle);
+// all returned forces/moments act on the second body.
+#include "engine/contact/contact_law.hpp"
+#include "engine/core/types.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+namespace triax {
+
+struct LinearContact {
+    struct Params {
+        double kn, ks, friction, damping_ratio, rolling_friction, rolling_stiffness_factor;
+        static Params from(const ContactLaw& l) {
+            return {l.kn, l.ks, l.friction, l.normal_damping_ratio, l.rolling_friction,
+                    l.rolling_stiffness_factor};
+        }
+    };
+
+    // Kinematics of the pair at this step.
+    struct Kinematics {
+        Vec3 n;            // unit normal, first -> second body
+        double overlap;    // m, effective (negative = gap)
+        Vec3 v_rel;        // m/s, velocity of the second body's contact point relative to the first
+        Vec3 w_rel;        // rad/s, spin of the second body minus the first
+        double m_eff;      // kg
+        double r_bar;      // m, effective radius for rolling resistance
+        double dt;         // s
+    };
+
+    // History slots (references into a contact store).
+    struct History {
+        double& normal_force;
+        Vec3& shear_force;
+        Vec3& rolling_moment;
+        std::uint8_t* bonded;        // nullptr for contacts that cannot be bonded (walls)
+        double bond_normal_strength;
+        double bond_shear_strength;
+        double damage;
+    };
+
+    // What happened this step (energies in J).
+    struct Outcome {
+        Vec3 force;                  // on the second body, N
+        Vec3 moment;                 // rolling moment on the second body, N m
+        double strain = 0.0, bond_strain = 0.0, slip = 0.0, dashpot = 0.0, bond_break = 0.0;
+        bool active = false, broke_tension = false, broke_shear = false;
+    };
+
+    // PFC keeps the magnitude of a shear quantity when the contact plane turns: project
+    // onto the new plane and rescale.
+    static Vec3 rotate_into_plane(const Vec3& s, const Vec3& n) {
+        const double mag2 = s.squaredNorm();
+        if (mag2 == 0.0) return s;
+        Vec3 t = s - n * n.dot(s);
+        const double t2 = t.squaredNorm();
+        if (t2 == 0.0) return Vec3::Zero();
+        return t * std::sqrt(mag2 / t2);
+    }
+
+    template <bool kRolling>
+    static inline Outcome evaluate(const Params& p, const Kinematics& k, History& h) {
+        Outcome out;
+        const bool was_bonded = h.bonded && *h.bonded;
+        if (!was_bonded && k.overlap <= 0.0) {
+            h.normal_force = 0.0;
+            h.shear_force.setZero();
+            h.rolling_moment.setZero();
+            out.force.setZero();
+            out.moment.setZero();
+            return out;
+        }
+        out.active = true;
+        const Vec3 fs_rot = rotate_into_plane(h.shear_force, k.n);
+        const double vn = k.v_rel.dot(k.n);
+        const Vec3 dus = (k.v_rel - k.n * vn) * k.dt;
+        const double fn_el = p.kn * k.overlap;
+        Vec3 fs = fs_rot - p.ks * dus;
+        double fd = 0.0;
+        if (p.damping_ratio > 0.0) {
+            const double c = 2.0 * p.damping_ratio * std::sqrt(k.m_eff * p.kn);
+            fd = -c * vn;
+            out.dashpot = c * vn * vn * k.dt;
+        }
+        bool bonded = was_bonded;
+        if (bonded) {
+            const double keep = 1.0 - h.damage;
+            if (-fn_el >= h.bond_normal_strength * keep) {
+                bonded = false;
+                out.broke_tension = true;
+            } else if (fs.norm() >= h.bond_shear_strength * keep) {
+                bonded = false;
+                out.broke_shear = true;
+            }
+            if (!bonded) {
+                *h.bonded = 0;
+                if (k.overlap <= 0.0) {
+                    // The bond held the only force: its spring energy is released.
+                    out.bond_break = 0.5 * fn_el * fn_el / p.kn +
+                                     (p.ks > 0 ? 0.5 * fs_rot.squaredNorm() / p.ks : 0.0);
+                    if constexpr (kRolling) {
+                        const double kr = p.rolling_stiffness_factor * p.ks * k.r_bar * k.r_bar;
+                        if (kr > 0) out.bond_break += 0.5 * h.rolling_moment.squaredNorm() / kr;
+                    }
+                    h.normal_force = 0.0;
+                    h.shear_force.setZero();
+                    h.rolling_moment.setZero();
+                    out.force.setZero();
+                    out.moment.setZero();
+                    out.active = false;
+                    return out;
+                }
+            }
+        }
+        if (!bonded) {
+            const double limit = p.friction * fn_el;
+            const double mag = fs.norm();
+            if (mag > limit) {
+                const Vec3 fs_new = mag > 0 ? Vec3(fs * (limit / mag)) : Vec3::Zero();
+                // slip = work absorbed by the contact - change of the spring energy
+                const double absorbed = -0.5 * (fs_rot + fs_new).dot(dus);
+                const double d_spring = p.ks > 0 ? (fs_new.squaredNorm() - fs_rot.squaredNorm()) / (2.0 * p.ks) : 0.0;
+                out.slip += absorbed - d_spring;
+                fs = fs_new;
+            }
+        }
+        double spring = 0.5 * fn_el * fn_el / p.kn + (p.ks > 0 ? 0.5 * fs.squaredNorm() / p.ks : 0.0);
+        Vec3 moment = Vec3::Zero();
+        if constexpr (kRolling) {
+            if (p.rolling_friction > 0.0) {
+                const double kr = p.rolling_stiffness_factor * p.ks * k.r_bar * k.r_bar;
+                const Vec3 m_rot = rotate_into_plane(h.rolling_moment, k.n);
+                const Vec3 dth = (k.w_rel - k.n * k.n.dot(k.w_rel)) * k.dt;
+                moment = m_rot - kr * dth;
+                const double limit = p.rolling_friction * k.r_bar * std::max(fn_el, 0.0);
+                const double mag = moment.norm();
+                if (mag > limit) {
+                    const Vec3 m_new = mag > 0 ? Vec3(moment * (limit / mag)) : Vec3::Zero();
+                    const double absorbed = -0.5 * (m_rot + m_new).dot(dth);
+                    const double d_spring = kr > 0 ? (m_new.squaredNorm() - m_rot.squaredNorm()) / (2.0 * kr) : 0.0;
+                    out.slip += absorbed - d_spring;
+                    moment = m_new;
+                }
+                if (kr > 0) spring += 0.5 * moment.squaredNorm() / kr;
+            }
+        }
+        if (bonded) out.bond_strain = spring;
+        else out.strain = spring;
+        h.normal_force = fn_el + fd;
+        h.shear_force = fs;
+        h.rolling_moment = moment;
+        out.force = k.n * (fn_el + fd) + fs;
+        out.moment = moment;
+        return out;
+    }
+};
+
+}  // namespace triax

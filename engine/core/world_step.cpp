@@ -1,0 +1,435 @@
+// World::cycle: the time step. Forces go into per-contact slots (parallel over
+// contacts, no shared writes), then each particle gathers its slots in a fixed order
+// (parallel over particles). Reductions go through fixed-size blocks summed serially,
+// so results do not depend on the thread count.
+#include "engine/contact/linear.hpp"
+#include "engine/core/world.hpp"
+#include "engine/integrate/local_damping.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace triax {
+
+namespace {
+
+constexpr int kBlock = 1024;
+
+struct ContactSums {
+    double strain = 0, bond_strain = 0, slip = 0, dashpot = 0, bond_break = 0;
+    long broke_tension = 0, broke_shear = 0;
+    void add(const LinearContact::Outcome& o) {
+        strain += o.strain; bond_strain += o.bond_strain; slip += o.slip;
+        dashpot += o.dashpot; bond_break += o.bond_break;
+        broke_tension += o.broke_tension; broke_shear += o.broke_shear;
+    }
+    void add(const ContactSums& o) {
+        strain += o.strain; bond_strain += o.bond_strain; slip += o.slip;
+        dashpot += o.dashpot; bond_break += o.bond_break;
+        broke_tension += o.broke_tension; broke_shear += o.broke_shear;
+    }
+};
+
+struct ParticleSums {
+    double kinetic = 0, damping = 0, boundary = 0, body = 0, max_disp2 = 0;
+    long bad = -1;  // first particle index that failed a stability check
+    int cause = 0;
+};
+
+template <bool kRolling>
+void ball_contacts(ContactStore& c, const ParticleArrays& pa, const std::vector<LinearContact::Params>& params,
+                   double dt, int threads, std::vector<ContactSums>& blocks) {
+    const long ns = static_cast<long>(c.size());
+    const long nb = (ns + kBlock - 1) / kBlock;
+    blocks.assign(nb, ContactSums{});
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (long b = 0; b < nb; ++b) {
+        ContactSums sums;
+        const long end = std::min(ns, (b + 1) * kBlock);
+        for (long k = b * kBlock; k < end; ++k) {
+            const int i = c.i[k], j = c.j[k];
+            const Vec3 d = pa.position[j] - pa.position[i];
+            const double ri = pa.radius[i], rj = pa.radius[j];
+            const double shift = c.reference_gap[k] - c.creep_normal_offset[k];
+            const double reach = ri + rj + shift;
+            const double d2 = d.squaredNorm();
+            if (!c.bonded[k] && (reach <= 0.0 || d2 >= reach * reach)) {
+                if (c.active[k]) {
+                    // Opened. Creep offset survives while the spheres still overlap
+                    // geometrically (the contact was relaxed, not separated).
+                    const double geo = ri + rj + c.reference_gap[k];
+                    const double keep_offset = (geo > 0 && d2 < geo * geo) ? c.creep_normal_offset[k] : 0.0;
+                    c.reset_history(k);
+                    c.creep_normal_offset[k] = keep_offset;
+                }
+                c.force_on_j[k].setZero();
+                c.torque_on_i[k].setZero();
+                c.torque_on_j[k].setZero();
+                c.overlap[k] = std::sqrt(d2) - reach < 0 ? 0.0 : -(std::sqrt(d2) - reach);
+                continue;
+            }
+            const double dist = std::sqrt(d2);
+            const Vec3 n = d / dist;
+            const double geo_overlap = ri + rj - dist;
+            const Vec3 xc = pa.position[i] + n * (ri - 0.5 * geo_overlap);
+            const Vec3 ai = xc - pa.position[i], aj = xc - pa.position[j];
+            LinearContact::Kinematics kin;
+            kin.n = n;
+            kin.overlap = geo_overlap + shift;
+            kin.v_rel = (pa.velocity[j] + pa.angular_velocity[j].cross(aj)) - (pa.velocity[i] + pa.angular_velocity[i].cross(ai));
+            kin.w_rel = pa.angular_velocity[j] - pa.angular_velocity[i];
+            kin.m_eff = pa.mass[i] * pa.mass[j] / (pa.mass[i] + pa.mass[j]);
+            kin.r_bar = ri * rj / (ri + rj);
+            kin.dt = dt;
+            LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k],
+                                     c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k]};
+            const LinearContact::Outcome o = LinearContact::evaluate<kRolling>(params[c.law[k]], kin, h);
+            sums.add(o);
+            c.overlap[k] = kin.overlap;
+            c.contact_point[k] = xc;
+            if (!o.active) {
+                c.reset_history(k);
+                c.force_on_j[k].setZero();
+                c.torque_on_i[k].setZero();
+                c.torque_on_j[k].setZero();
+                continue;
+            }
+            c.active[k] = 1;
+            c.force_on_j[k] = o.force;
+            c.torque_on_i[k] = ai.cross(-o.force) - o.moment;
+            c.torque_on_j[k] = aj.cross(o.force) + o.moment;
+        }
+        blocks[b] = sums;
+    }
+}
+
+}  // namespace
+
+void World::compute_contact_forces() {
+    std::vector<LinearContact::Params> params;
+    params.reserve(resolved_laws_.size());
+    for (const ContactLaw& l : resolved_laws_) params.push_back(LinearContact::Params::from(l));
+
+    std::vector<ContactSums> blocks;
+    if (any_rolling_) ball_contacts<true>(contacts_, particles_, params, dt_, threads_, blocks);
+    else ball_contacts<false>(contacts_, particles_, params, dt_, threads_, blocks);
+    ContactSums total;
+    for (const ContactSums& b : blocks) total.add(b);
+
+    // Wall contacts: few, done serially in slot order (also gives the wall forces).
+    for (auto& w : plane_walls_) { w.force.setZero(); w.contact_count = 0; }
+    for (auto& w : cylinder_walls_) { w.force.setZero(); w.radial_force = 0.0; w.contact_count = 0; }
+    WallContactStore& wc = wall_contacts_;
+    for (std::size_t k = 0; k < wc.size(); ++k) {
+        const int p = wc.particle[k];
+        const Vec3& x = particles_.position[p];
+        const double r = particles_.radius[p];
+        Vec3 n;           // wall -> particle
+        double dist;      // centre to wall surface
+        Vec3 v_wall;
+        bool in_range = true;
+        if (wc.wall_kind[k] == 0) {
+            const PlaneWall& w = plane_walls_[wc.wall[k]];
+            n = w.normal;
+            dist = (x - w.point).dot(n);
+            v_wall = w.velocity;
+        } else {
+            const CylinderWall& w = cylinder_walls_[wc.wall[k]];
+            const Vec3 rel = x - w.base;
+            const double a = rel.dot(w.axis);
+            const Vec3 radial = rel - a * w.axis;
+            const double rho = radial.norm();
+            in_range = a >= 0.0 && a <= w.height && rho > 0.0;
+            const Vec3 e = rho > 0 ? Vec3(radial / rho) : Vec3::UnitX();
+            n = -e;
+            dist = w.radius - rho;
+            v_wall = w.velocity + w.radial_velocity * e;
+        }
+        const double overlap = r - dist - wc.creep_normal_offset[k];
+        wc.overlap[k] = overlap;
+        if (!in_range || overlap <= 0.0) {
+            if (wc.active[k]) {
+                const double keep = (in_range && r - dist > 0) ? wc.creep_normal_offset[k] : 0.0;
+                wc.reset_history(k);
+                wc.creep_normal_offset[k] = keep;
+            }
+            wc.force_on_particle[k].setZero();
+            wc.torque_on_particle[k].setZero();
+            continue;
+        }
+        const Vec3 xc = x - n * dist;
+        const Vec3 arm = xc - x;
+        LinearContact::Kinematics kin;
+        kin.n = n;
+        kin.overlap = overlap;
+        kin.v_rel = particles_.velocity[p] + particles_.angular_velocity[p].cross(arm) - v_wall;
+        kin.w_rel = particles_.angular_velocity[p];
+        kin.m_eff = particles_.mass[p];
+        kin.r_bar = r;
+        kin.dt = dt_;
+        Vec3 no_moment = Vec3::Zero();
+        LinearContact::History h{wc.normal_force[k], wc.shear_force[k], no_moment, nullptr, 0.0, 0.0, 0.0};
+        const LinearContact::Outcome o = any_rolling_
+            ? LinearContact::evaluate<true>(params[wc.law[k]], kin, h)
+            : LinearContact::evaluate<false>(params[wc.law[k]], kin, h);
+        total.add(o);
+        wc.active[k] = 1;
+        wc.contact_point[k] = xc;
+        wc.force_on_particle[k] = o.force;
+        wc.torque_on_particle[k] = arm.cross(o.force) + o.moment;
+        if (wc.wall_kind[k] == 0) {
+            PlaneWall& w = plane_walls_[wc.wall[k]];
+            w.force -= o.force;
+            ++w.contact_count;
+        } else {
+            CylinderWall& w = cylinder_walls_[wc.wall[k]];
+            w.force -= o.force;
+            w.radial_force += wc.normal_force[k];
+            ++w.contact_count;
+        }
+    }
+
+    broken_tension_ += total.broke_tension;
+    broken_shear_ += total.broke_shear;
+    if (track_energy_) {
+        energy_.strain = total.strain;
+        energy_.bond_strain = total.bond_strain;
+        energy_.slip += total.slip;
+        energy_.dashpot += total.dashpot;
+        energy_.bond_break += total.bond_break;
+    }
+}
+
+void World::gather_and_integrate() {
+    const long n = static_cast<long>(particles_.size());
+    const long nb = (n + kBlock - 1) / kBlock;
+    std::vector<ParticleSums> blocks(nb);
+    ParticleArrays& pa = particles_;
+    const ContactStore& c = contacts_;
+    const WallContactStore& wc = wall_contacts_;
+    const double dt = dt_;
+    const double alpha = alpha_;
+    const Vec3 g = gravity_;
+    const bool scaling = density_scaling_;
+    const bool need_stiffness = scaling;
+    const auto& laws = resolved_laws_;
+    const bool has_domain = domain_.has_value();
+    const Vec3 lo = has_domain ? domain_->first : Vec3::Zero();
+    const Vec3 hi = has_domain ? domain_->second : Vec3::Zero();
+
+#pragma omp parallel for schedule(static) num_threads(threads_)
+    for (long b = 0; b < nb; ++b) {
+        ParticleSums s;
+        const long end = std::min(n, (b + 1) * kBlock);
+        for (long p = b * kBlock; p < end; ++p) {
+            Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+            double kt = 0.0, kr = 0.0;
+            for (int e = adj_start_[p]; e < adj_start_[p + 1]; ++e) {
+                const int slot = adj_[e] >> 1;
+                if (adj_[e] & 1) { f += c.force_on_j[slot]; t += c.torque_on_j[slot]; }
+                else { f -= c.force_on_j[slot]; t += c.torque_on_i[slot]; }
+                if (need_stiffness && c.active[slot]) {
+                    const ContactLaw& l = laws[c.law[slot]];
+                    kt += l.kn + l.ks;
+                    kr += l.ks * pa.radius[p] * pa.radius[p];
+                }
+            }
+            for (int e = wall_adj_start_[p]; e < wall_adj_start_[p + 1]; ++e) {
+                const int slot = wall_adj_[e];
+                f += wc.force_on_particle[slot];
+                t += wc.torque_on_particle[slot];
+                if (need_stiffness && wc.active[slot]) {
+                    const ContactLaw& l = laws[wc.law[slot]];
+                    kt += l.kn + l.ks;
+                    kr += l.ks * pa.radius[p] * pa.radius[p];
+                }
+            }
+            stiffness_sum_[p] = kt;
+            rot_stiffness_sum_[p] = kr;
+            const Vec3 f_contact = f;
+            f += pa.external_force[p] + pa.mass[p] * g;
+            pa.force[p] = f;
+            pa.torque[p] = t;
+            const std::uint8_t flags = pa.flags[p];
+            if (flags & kClumpMember) continue;
+            if (flags & kFixedVelocity) {
+                // Prescribed motion: what its contacts push against is boundary work.
+                s.boundary += -f_contact.dot(pa.velocity[p]) * dt - t.dot(pa.angular_velocity[p]) * dt;
+                pa.position[p] += pa.velocity[p] * dt;
+            } else {
+                double m = pa.mass[p], inertia = pa.inertia[p];
+                if (scaling) {
+                    m = std::max(m, 4.0 * kt * dt * dt);
+                    inertia = std::max(inertia, 4.0 * kr * dt * dt);
+                }
+                inertial_mass_[p] = m;
+                inertial_inertia_[p] = inertia;
+                const Vec3 v_old = pa.velocity[p], w_old = pa.angular_velocity[p];
+                const Vec3 fd = local_damping_force(f, v_old, alpha);
+                const Vec3 td = local_damping_force(t, w_old, alpha);
+                const Vec3 v_new = v_old + fd * (dt / m);
+                const Vec3 w_new = w_old + td * (dt / inertia);
+                const Vec3 v_mid = 0.5 * (v_old + v_new), w_mid = 0.5 * (w_old + w_new);
+                s.damping += ((f - fd).dot(v_mid) + (t - td).dot(w_mid)) * dt;
+                s.boundary += pa.external_force[p].dot(v_mid) * dt;
+                s.body += pa.mass[p] * g.dot(v_mid) * dt;
+                s.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * inertia * w_new.squaredNorm();
+                pa.velocity[p] = v_new;
+                pa.angular_velocity[p] = w_new;
+                pa.position[p] += v_new * dt;
+                if (s.bad < 0) {
+                    const double step_len = v_new.norm() * dt;
+                    if (!std::isfinite(step_len) || !std::isfinite(w_new.squaredNorm())) { s.bad = p; s.cause = 1; }
+                    else if (step_len > pa.radius[p]) { s.bad = p; s.cause = 2; }
+                }
+            }
+            if (has_domain && s.bad < 0 &&
+                ((pa.position[p].array() < lo.array()).any() || (pa.position[p].array() > hi.array()).any())) {
+                s.bad = p; s.cause = 3;
+            }
+            s.max_disp2 = std::max(s.max_disp2, (pa.position[p] - rebuild_position_[p]).squaredNorm());
+        }
+        blocks[b] = s;
+    }
+
+    ParticleSums total;
+    for (const ParticleSums& s : blocks) {
+        total.kinetic += s.kinetic; total.damping += s.damping; total.boundary += s.boundary; total.body += s.body;
+        total.max_disp2 = std::max(total.max_disp2, s.max_disp2);
+        if (total.bad < 0 && s.bad >= 0) { total.bad = s.bad; total.cause = s.cause; }
+    }
+    if (track_energy_) {
+        energy_.kinetic = total.kinetic;
+        energy_.damping += total.damping;
+        energy_.boundary_work += total.boundary;
+        energy_.body_force_work += total.body;
+    }
+    if (total.bad >= 0) {
+        const long p = total.bad;
+        std::ostringstream why;
+        if (total.cause == 1) why << "non-finite velocity (NaN) of particle " << p;
+        else if (total.cause == 2)
+            why << "exploding kinetic energy: particle " << p << " moved " << pa.velocity[p].norm() * dt
+                << " m in one step, more than its radius " << pa.radius[p] << " m (time step too large or overlap too deep)";
+        else
+            why << "particle " << p << " escaped the domain box at (" << pa.position[p].x() << ", "
+                << pa.position[p].y() << ", " << pa.position[p].z() << ") m";
+        throw SimulationError(step_, why.str());
+    }
+    const double half_skin = 0.5 * skin();
+    if (total.max_disp2 > half_skin * half_skin) need_rebuild_ = true;
+}
+
+void World::integrate_clumps() {
+    const double dt = dt_;
+    for (Clump& c : clumps_) {
+        Vec3 f = Vec3::Zero(), t = Vec3::Zero(), f_ext = Vec3::Zero(), f_contact = Vec3::Zero(), t_contact = Vec3::Zero();
+        double kt = 0.0, kr = 0.0;
+        for (int p : c.members) {
+            const Vec3 arm = particles_.position[p] - c.position;
+            f += particles_.force[p];
+            t += arm.cross(particles_.force[p]) + particles_.torque[p];
+            const Vec3 fc = particles_.force[p] - particles_.external_force[p] - particles_.mass[p] * gravity_;
+            f_contact += fc;
+            t_contact += arm.cross(fc) + particles_.torque[p];
+            f_ext += particles_.external_force[p];
+            kt += stiffness_sum_[p];
+            kr += rot_stiffness_sum_[p] + stiffness_sum_[p] * arm.squaredNorm();
+        }
+        c.contact_force = f_contact;
+        c.contact_torque = t_contact;
+        if (c.control == ClumpControl::VelocityControlled) {
+            if (track_energy_) energy_.boundary_work += -(f_contact.dot(c.velocity) + t_contact.dot(c.angular_velocity)) * dt;
+        } else {
+            f += c.applied_force;
+            t += c.applied_torque;
+            double m = c.mass;
+            const Mat3 rot = c.orientation.toRotationMatrix();
+            Mat3 inertia = rot * c.inertia_body * rot.transpose();
+            if (density_scaling_) {
+                m = std::max(m, 4.0 * kt * dt * dt);
+                const double i_min = 4.0 * kr * dt * dt;
+                for (int a = 0; a < 3; ++a) inertia(a, a) = std::max(inertia(a, a), i_min);
+            }
+            const Vec3 v_old = c.velocity, w_old = c.angular_velocity;
+            const Vec3 fd = local_damping_force(f, v_old, alpha_);
+            const Vec3 v_new = v_old + fd * (dt / m);
+            Vec3 w_new = Vec3::Zero();
+            Vec3 td = Vec3::Zero();
+            if (!c.fix_rotation) {
+                td = local_damping_force(t, w_old, alpha_);
+                w_new = w_old + inertia.ldlt().solve(td) * dt;
+            }
+            const Vec3 v_mid = 0.5 * (v_old + v_new), w_mid = 0.5 * (w_old + w_new);
+            if (track_energy_) {
+                energy_.damping += (f - fd).dot(v_mid) * dt + (c.fix_rotation ? 0.0 : (t - td).dot(w_mid) * dt);
+                energy_.boundary_work += (c.applied_force + f_ext).dot(v_mid) * dt + c.applied_torque.dot(w_mid) * dt;
+                energy_.body_force_work += c.mass * gravity_.dot(v_mid) * dt;
+                energy_.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * w_new.dot(inertia * w_new);
+            }
+            c.velocity = v_new;
+            c.angular_velocity = w_new;
+        }
+        c.position += c.velocity * dt;
+        const double w = c.angular_velocity.norm();
+        if (w > 0) {
+            const Eigen::Quaterniond dq(Eigen::AngleAxisd(w * dt, c.angular_velocity / w));
+            c.orientation = (dq * c.orientation).normalized();
+        }
+        update_clump_members(c);
+        const double half_skin = 0.5 * skin();
+        for (int p : c.members) {
+            if ((particles_.position[p] - rebuild_position_[p]).squaredNorm() > half_skin * half_skin) need_rebuild_ = true;
+            if (!std::isfinite(particles_.position[p].squaredNorm()))
+                throw SimulationError(step_, "non-finite position (NaN) of clump member " + std::to_string(p));
+        }
+    }
+}
+
+void World::move_walls() {
+    const double dt = dt_;
+    std::size_t k = 0;
+    for (PlaneWall& w : plane_walls_) {
+        if (track_energy_) energy_.boundary_work += -w.force.dot(w.velocity) * dt;
+        w.point += w.velocity * dt;
+        wall_travel_[k++] += w.velocity.norm() * dt;
+    }
+    for (CylinderWall& w : cylinder_walls_) {
+        if (track_energy_) energy_.boundary_work += (-w.force.dot(w.velocity) - w.radial_force * w.radial_velocity) * dt;
+        w.base += w.velocity * dt;
+        w.radius += w.radial_velocity * dt;
+        wall_travel_[k++] += (w.velocity.norm() + std::abs(w.radial_velocity)) * dt;
+    }
+    const double half_skin = 0.5 * skin();
+    for (double travel : wall_travel_)
+        if (travel > half_skin) need_rebuild_ = true;
+}
+
+void World::check_stability() {
+    if (track_energy_ && energy_.kinetic > max_kinetic_) {
+        std::ostringstream why;
+        why << "exploding kinetic energy: " << energy_.kinetic << " J exceeds the limit " << max_kinetic_ << " J";
+        throw SimulationError(step_, why.str());
+    }
+}
+
+void World::cycle(long n) {
+    if (n < 0) throw InputError("cycle: field 'steps' must be >= 0, got " + std::to_string(n));
+    if (n == 0) return;
+    if (!(dt_ > 0)) throw InputError("cycle: time step not set; call set_time_step(critical_time_step()) first");
+    if (particles_.size() == 0) throw InputError("cycle: the world has no particles");
+    for (long s = 0; s < n; ++s) {
+        ensure_ready();
+        if (need_rebuild_) rebuild_neighbors();
+        compute_contact_forces();
+        gather_and_integrate();
+        integrate_clumps();
+        move_walls();
+        check_stability();
+        ++step_;
+        time_ += dt_;
+    }
+}
+
+}  // namespace triax
