@@ -52,7 +52,7 @@ public:
         }
         int physical = 0;
         for (const auto& [e, s] : effect_specs_) physical += is_test_artefact(e) ? 0 : 1;
-        planned_runs_ = opt_.budget_runs +
+        planned_runs_ = opt_.budget_runs + 2 * static_cast<int>(base_specs_.size() + 2) +
                         opt_.max_effects * (physical + (opt_.max_candidates + 1) * std::max(opt_.refine_runs, 1));
     }
 
@@ -163,6 +163,29 @@ private:
         const UnitPoint extra = nominal_unit(effect_specs_.at(e));
         u.insert(u.end(), extra.begin(), extra.end());
         return u;
+    }
+
+    // Replaces the surrogate Jacobian of a fit by forward differences at its optimum (k runs,
+    // step 0.03 of each parameter's range, taken inward from the bounds): the reported
+    // uncertainties must not depend on how the refinement happened to scatter its runs.
+    void finite_difference_jacobian(Fit& f) {
+        const std::size_t k = f.cal.best.size(), n = f.cal.residual.size();
+        std::vector<UnitPoint> probes;
+        std::vector<double> steps;
+        for (std::size_t j = 0; j < k; ++j) {
+            UnitPoint u = f.cal.best;
+            const double h = u[j] + 0.03 <= 1.0 ? 0.03 : -0.03;
+            u[j] += h;
+            probes.push_back(u);
+            steps.push_back(h);
+        }
+        const auto r = evaluate(f.variant, probes);
+        std::vector<double> J(n * k, 0.0);
+        for (std::size_t j = 0; j < k; ++j) {
+            if (r[j].size() != n) return;  // a failed probe: keep the surrogate Jacobian
+            for (std::size_t i = 0; i < n; ++i) J[j * n + i] = (r[j][i] - f.cal.residual[i]) / steps[j];
+        }
+        f.cal.jacobian = std::move(J);
     }
 
     std::vector<FittedParameter> parameters_of(const Fit& f, double n_eff) const {
@@ -329,6 +352,10 @@ DiagnosisReport Loop::run() {
     const double bic_final = bic(current.cal.rss, n, n_eff, current.specs.size());
     rep.n_readings = static_cast<double>(n);
     rep.n_effective = n_eff;
+    stage_ = "uncertainty";
+    finite_difference_jacobian(base_final);
+    if (!current.variant.effects.empty()) finite_difference_jacobian(current);
+    else current.cal.jacobian = base_final.cal.jacobian;
     rep.base_parameters = parameters_of(base_final, n_eff);
     rep.parameters = parameters_of(current, n_eff);
     rep.error_before = phase_errors(layout_, base_final.cal.residual);

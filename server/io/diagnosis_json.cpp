@@ -165,6 +165,7 @@ DiagnoseOptions diagnose_options_from_json(const json& body) {
     o.max_effects = bounded(body, "max_effects", 1, 6, o.max_effects);
     o.concurrency = bounded(body, "concurrency", 1, 64, o.concurrency);
     o.threads_per_run = bounded(body, "threads_per_run", 1, 64, o.threads_per_run);
+    o.max_particles = bounded(body, "max_particles", 0, 1000000, o.max_particles);
     o.seed = bounded<std::uint64_t>(body, "seed", 0, std::uint64_t{1} << 53, o.seed);
     o.bic_threshold = bounded(body, "bic_threshold", 0.0, 1e6, o.bic_threshold);
     return o;

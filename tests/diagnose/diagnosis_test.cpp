@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 #include "analytic_triaxial_model.hpp"
 #include "engine/diagnose/diagnosis.hpp"
@@ -47,6 +48,15 @@ void check_step_cut(const DiagnosisReport& r, std::string_view effect) {
     CHECK(r.nrmse_after <= 0.5 * r.nrmse_before);
 }
 
+// The fitted value of a hidden parameter must agree with the truth within its reported
+// uncertainty (4 sigma, plus 3 % for the seating form the diagnosis does not share).
+void check_parameter(const DiagnosisReport& r, std::string_view name, double truth) {
+    auto it = std::find_if(r.parameters.begin(), r.parameters.end(), [&](auto& p) { return p.name == name; });
+    REQUIRE(it != r.parameters.end());
+    CHECK(it->std > 0.0);
+    CHECK(std::abs(it->value - truth) <= 4.0 * it->std + 0.03 * std::abs(truth));
+}
+
 void describe(const DiagnosisReport& r) {
     std::string text = r.verdict + "\n";
     for (const auto& c : r.candidates)
@@ -69,6 +79,8 @@ TEST_CASE("control dataset (noise + seating only) is not given a physical effect
     CHECK(r.n_effective > 10.0);
     CHECK(r.n_effective <= r.n_readings);
     CHECK(!r.error_before.empty());
+    check_parameter(r, "young_modulus_at_100kPa", 30e6);
+    check_parameter(r, "creep_log_time_coefficient", 8e-4);
 }
 
 TEST_CASE("hidden bond degradation is named and the error at least halved", "[diagnose][loop]") {
@@ -76,6 +88,8 @@ TEST_CASE("hidden bond degradation is named and the error at least halved", "[di
     describe(r);
     CHECK(r.chosen_effect == "bond_degradation");
     check_step_cut(r, "bond_degradation");
+    check_parameter(r, "breakage_index", 1.0);
+    check_parameter(r, "friction_angle", 36.0);
     CHECK(r.delta_bic_vs_base < -10.0);
 }
 
@@ -84,6 +98,7 @@ TEST_CASE("hidden rolling resistance is named and the error at least halved", "[
     describe(r);
     CHECK(r.chosen_effect == "rolling_resistance");
     check_step_cut(r, "rolling_resistance");
+    check_parameter(r, "rolling_friction", 0.2);
 }
 
 TEST_CASE("hidden contact creep viscosity is named and the error at least halved", "[diagnose][loop]") {
@@ -91,6 +106,8 @@ TEST_CASE("hidden contact creep viscosity is named and the error at least halved
     describe(r);
     CHECK(r.chosen_effect == "contact_creep_viscosity");
     check_step_cut(r, "contact_creep_viscosity");
+    check_parameter(r, "viscous_strain", 0.004);
+    check_parameter(r, "viscous_time", 5000.0);
 }
 
 TEST_CASE("hidden moisture bonding is named and the error at least halved", "[diagnose][loop]") {
@@ -98,6 +115,7 @@ TEST_CASE("hidden moisture bonding is named and the error at least halved", "[di
     describe(r);
     CHECK(r.chosen_effect == "moisture_bonding");
     check_step_cut(r, "moisture_bonding");
+    check_parameter(r, "bond_cohesion", 25e3);
 }
 
 TEST_CASE("membrane compliance without seating is named as the artefact", "[diagnose][loop]") {
@@ -108,4 +126,5 @@ TEST_CASE("membrane compliance without seating is named as the artefact", "[diag
     describe(r);
     CHECK(r.chosen_effect == "membrane_compliance");
     check_step_cut(r, "membrane_compliance");
+    check_parameter(r, "membrane_stiffness", 300e3);
 }
