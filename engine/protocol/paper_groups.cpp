@@ -1,0 +1,35 @@
+#include "engine/protocol/paper_groups.hpp"
+
+#include "engine/core/types.hpp"
+
+namespace triax::protocol {
+
+namespace {
+TestScheme group_scheme(const std::string& name, double sigma3_pa, double moisture) {
+    TestScheme s;  // defaults are the paper's Tables 1-3
+    s.name = "group " + name;
+    s.loading.confining_pressure_pa = sigma3_pa;
+    s.specimen.moisture_content = moisture;
+    // The paper's groups last about 10 days for 4 stages: 2.5 days per stage.
+    s.loading.stage_durations_s = {2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0};
+    return s;
+}
+}  // namespace
+
+std::vector<PaperGroup> paper_groups() {
+    return {
+        {"A", "sigma3 = 50 kPa, w = 8.9 %, S = 0.1/0.4/0.6/0.8", group_scheme("A", 50.0e3, 0.089)},
+        {"B", "sigma3 = 100 kPa, w = 8.9 %, S = 0.1/0.4/0.6/0.8", group_scheme("B", 100.0e3, 0.089)},
+        {"C", "sigma3 = 200 kPa, w = 8.9 %, S = 0.1/0.4/0.6/0.8", group_scheme("C", 200.0e3, 0.089)},
+        {"D", "sigma3 = 100 kPa, w = 10.2 %, S = 0.1/0.4/0.6/0.8", group_scheme("D", 100.0e3, 0.102)},
+        {"E", "sigma3 = 100 kPa, w = 12.1 %, S = 0.1/0.4/0.6/0.8", group_scheme("E", 100.0e3, 0.121)},
+    };
+}
+
+TestScheme paper_group(const std::string& name) {
+    for (auto& g : paper_groups())
+        if (g.name == name) return g.scheme;
+    throw InputError("group: unknown paper group '" + name + "' (valid: A, B, C, D, E)");
+}
+
+}  // namespace triax::protocol

@@ -1,0 +1,126 @@
+#pragma once
+// TestScheme: everything that defines one triaxial + multi-stage creep test of the seed
+// paper. SI units inside (m, Pa, s, kg/m^3, fractions); lab units only at the JSON edge
+// (server/io/scheme_json). Defaults are the paper's (Tables 1-3, group B).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace triax::protocol {
+
+// Cylindrical specimen (paper: 100 mm x 200 mm, compaction 93 % of 2.21 g/cm^3).
+struct SpecimenSpec {
+    double diameter_m = 0.1;
+    double height_m = 0.2;
+    double target_porosity = 0.35;          // n, Table 3
+    double dry_density_kg_m3 = 2055.3;      // 0.93 x 2210 (compaction degree x max dry density)
+    double moisture_content = 0.089;        // w as a fraction (8.9 % = optimum, Table 1)
+};
+
+// One point of a sieve curve: grain size (diameter) and mass percent passing.
+struct SievePoint {
+    double size_m = 0.0;
+    double passing_pct = 0.0;
+};
+
+// Gradation either from a sieve curve, or the paper's Rmin + Rmax/Rmin ratio (Eq. 3,
+// radii uniformly distributed by number as PFC's `ball generate` does). Sieve fractions
+// below fines_cutoff_m are lumped into one class at their mass-weighted mean radius (Eq. 2).
+struct GradationSpec {
+    enum class Kind { RadiusRatio, SieveCurve };
+    Kind kind = Kind::RadiusRatio;
+    double r_min_m = 0.5e-3;                 // paper: 0.5 mm
+    double radius_ratio = 39.712;            // paper: Rmax/Rmin
+    std::vector<SievePoint> sieve_curve;     // increasing size, passing in [0, 100]
+    double fines_cutoff_m = 1.0e-3;          // paper: grains < 1 mm lumped (diameter)
+};
+
+// Micro-parameters (Table 3). Table 3 gives 230.15 and 150.63 without units; we read them
+// as the normal and shear effective contact moduli in MPa (docs/parameters.md): the
+// linear normal stiffness of a pair is kn = pi * r_eff * E_n / 2 and ks likewise with E_s.
+struct MicroParameters {
+    double friction = 0.4;                       // mu, particle-particle
+    double wall_friction = 0.0;                  // platens lubricated
+    double local_damping = 0.7;                  // PFC local damping alpha
+    double normal_modulus_pa = 230.15e6;         // Table 3 "230.15" read as MPa
+    double shear_modulus_pa = 150.63e6;          // Table 3 "150.63" read as MPa
+    double wall_normal_stiffness_n_m = 1.0e8;    // Table 3
+    double wall_shear_stiffness_n_m = 1.0e8;     // Table 3
+    // Contact bond (soil-soil) strengths at the reference moisture content; scaled by the
+    // moisture relation (engine/creep/moisture_bond.hpp). Force = strength x r_min^2.
+    double bond_normal_strength_pa = 40.0e3;
+    double bond_shear_strength_pa = 40.0e3;
+    // Membrane: bonded particles of one size, force but no moment.
+    double membrane_particle_radius_m = 0.0;     // 0 = automatic (about r_min of the soil, >= 1 mm)
+    double membrane_stiffness_n_m = 2.0e4;       // bond spring between membrane particles
+    // Rolling resistance (off by default: paper uses the linear model).
+    double rolling_friction = 0.0;               // mu_r, 0 = off
+};
+
+// Time-dependent contact mechanism (docs/creep.md): rate-process viscous slip at the
+// frictional contacts plus stress-corrosion damage of the contact bonds.
+struct CreepLawParameters {
+    // Rate process: slip rate v = v0 * exp(-dE/kT) * sinh(f / f_ref) applied to the
+    // mobilised friction ratio f = |Fs| / (mu Fn). Lumped here as v = A sinh(beta f).
+    double slip_rate_a_m_s = 2.0e-10;      // A: slip rate scale (m/s) at f ~ 1/beta
+    double slip_beta = 6.0;                // beta: sensitivity to mobilisation
+    // Stress corrosion: dD/dt = b1 exp(b2 (sigma/sigma_c)) when sigma/sigma_c > threshold.
+    double damage_rate_b1_per_s = 1.0e-8;
+    double damage_b2 = 12.0;
+    double damage_threshold = 0.55;
+    // Physical-time scheduler.
+    double first_increment_s = 1.0;        // first time increment of a creep stage
+    double increment_growth = 1.25;        // geometric growth of increments
+    double max_increment_s = 3600.0;
+};
+
+// Which definition of the stress level drives the creep loads.
+enum class StressLevelDefinition { DeviatorRatio /* q / q_f */, PaperEq1 /* Eq. 1, c and phi */ };
+
+struct LoadingSpec {
+    double confining_pressure_pa = 100.0e3;
+    std::vector<double> stress_levels = {0.1, 0.4, 0.6, 0.8};
+    StressLevelDefinition stress_level_definition = StressLevelDefinition::DeviatorRatio;
+    double cohesion_pa = 25.0e3;                    // Table 1, for Eq. 1
+    double friction_angle_deg = 32.0;               // Table 1, for Eq. 1
+    std::vector<double> stage_durations_s = {14400.0, 14400.0, 14400.0, 14400.0};  // physical time per stage
+    double shear_strain_rate_per_s = 1.0e-4 / 60.0; // lab rate (0.01 %/min), mapped to a quasi-static DEM rate
+    double max_axial_strain = 0.15;
+    double consolidation_tolerance = 1.0e-3;        // mean unbalanced / mean contact force
+};
+
+// Effects the diagnosis may switch on (defaults off). Physical effects act on the DEM;
+// test artefacts act on the measurement (seating, membrane compliance).
+struct TestEffects {
+    bool rolling_resistance = false;
+    double rolling_friction = 0.1;
+    bool grain_breakage = false;                   // bond degradation under load (extra damage)
+    double breakage_damage_scale = 1.0;
+    bool contact_creep_viscosity = true;           // the creep mechanism itself (off = no creep)
+    double viscosity_scale = 1.0;                  // multiplies slip_rate_a and damage_rate_b1
+    bool moisture_bonding = true;                  // moisture -> bond strength relation
+    bool seating_error = false;                    // bedding: extra axial displacement at start of loading
+    double seating_displacement_m = 0.5e-3;
+    bool membrane_compliance = false;              // membrane hoop stiffness correction on q
+    double membrane_modulus_pa = 1.4e6;
+    double membrane_thickness_m = 0.5e-3;
+};
+
+struct TestScheme {
+    std::string name = "custom";
+    SpecimenSpec specimen;
+    GradationSpec gradation;
+    MicroParameters micro;
+    CreepLawParameters creep;
+    LoadingSpec loading;
+    TestEffects effects;
+    std::uint64_t seed = 1;
+    int threads = 1;
+    // Reduced runs for tests: cap of soil particles (0 = no cap: the gradation decides).
+    int max_particles = 0;
+
+    // Throws InputError naming the field (dotted path, e.g. "specimen.target_porosity").
+    void validate() const;
+};
+
+}  // namespace triax::protocol

@@ -1,0 +1,256 @@
+#include "server/io/scheme_json.hpp"
+
+#include <functional>
+#include <map>
+#include <vector>
+
+#include "engine/core/types.hpp"
+
+namespace triax::io {
+
+using nlohmann::json;
+using protocol::TestScheme;
+
+namespace {
+
+// One numeric field: where it lives in JSON, its SI name in TestScheme (as used in
+// TestScheme::validate messages) and the factor lab -> SI.
+struct NumberField {
+    const char* section;
+    const char* key;
+    const char* si_name;
+    std::function<double&(TestScheme&)> ref;
+    double to_si;
+};
+
+struct BoolField {
+    const char* section;
+    const char* key;
+    std::function<bool&(TestScheme&)> ref;
+};
+
+const std::vector<NumberField>& number_fields() {
+    static const std::vector<NumberField> f = {
+        {"specimen", "diameter_mm", "specimen.diameter_m", [](TestScheme& s) -> double& { return s.specimen.diameter_m; }, 1e-3},
+        {"specimen", "height_mm", "specimen.height_m", [](TestScheme& s) -> double& { return s.specimen.height_m; }, 1e-3},
+        {"specimen", "target_porosity", "specimen.target_porosity", [](TestScheme& s) -> double& { return s.specimen.target_porosity; }, 1.0},
+        {"specimen", "dry_density_g_cm3", "specimen.dry_density_kg_m3", [](TestScheme& s) -> double& { return s.specimen.dry_density_kg_m3; }, 1000.0},
+        {"specimen", "moisture_content_pct", "specimen.moisture_content", [](TestScheme& s) -> double& { return s.specimen.moisture_content; }, 0.01},
+        {"gradation", "r_min_mm", "gradation.r_min_m", [](TestScheme& s) -> double& { return s.gradation.r_min_m; }, 1e-3},
+        {"gradation", "radius_ratio", "gradation.radius_ratio", [](TestScheme& s) -> double& { return s.gradation.radius_ratio; }, 1.0},
+        {"gradation", "fines_cutoff_mm", "gradation.fines_cutoff_m", [](TestScheme& s) -> double& { return s.gradation.fines_cutoff_m; }, 1e-3},
+        {"micro", "friction", "micro.friction", [](TestScheme& s) -> double& { return s.micro.friction; }, 1.0},
+        {"micro", "wall_friction", "micro.wall_friction", [](TestScheme& s) -> double& { return s.micro.wall_friction; }, 1.0},
+        {"micro", "local_damping", "micro.local_damping", [](TestScheme& s) -> double& { return s.micro.local_damping; }, 1.0},
+        {"micro", "normal_modulus_MPa", "micro.normal_modulus_pa", [](TestScheme& s) -> double& { return s.micro.normal_modulus_pa; }, 1e6},
+        {"micro", "shear_modulus_MPa", "micro.shear_modulus_pa", [](TestScheme& s) -> double& { return s.micro.shear_modulus_pa; }, 1e6},
+        {"micro", "wall_normal_stiffness_N_m", "micro.wall_normal_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.wall_normal_stiffness_n_m; }, 1.0},
+        {"micro", "wall_shear_stiffness_N_m", "micro.wall_shear_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.wall_shear_stiffness_n_m; }, 1.0},
+        {"micro", "bond_normal_strength_kPa", "micro.bond_normal_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_normal_strength_pa; }, 1e3},
+        {"micro", "bond_shear_strength_kPa", "micro.bond_shear_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_shear_strength_pa; }, 1e3},
+        {"micro", "membrane_particle_radius_mm", "micro.membrane_particle_radius_m", [](TestScheme& s) -> double& { return s.micro.membrane_particle_radius_m; }, 1e-3},
+        {"micro", "membrane_stiffness_N_m", "micro.membrane_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.membrane_stiffness_n_m; }, 1.0},
+        {"micro", "rolling_friction", "micro.rolling_friction", [](TestScheme& s) -> double& { return s.micro.rolling_friction; }, 1.0},
+        {"creep", "slip_rate_a_m_s", "creep.slip_rate_a_m_s", [](TestScheme& s) -> double& { return s.creep.slip_rate_a_m_s; }, 1.0},
+        {"creep", "slip_beta", "creep.slip_beta", [](TestScheme& s) -> double& { return s.creep.slip_beta; }, 1.0},
+        {"creep", "damage_rate_b1_per_s", "creep.damage_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.damage_rate_b1_per_s; }, 1.0},
+        {"creep", "damage_b2", "creep.damage_b2", [](TestScheme& s) -> double& { return s.creep.damage_b2; }, 1.0},
+        {"creep", "damage_threshold", "creep.damage_threshold", [](TestScheme& s) -> double& { return s.creep.damage_threshold; }, 1.0},
+        {"creep", "first_increment_s", "creep.first_increment_s", [](TestScheme& s) -> double& { return s.creep.first_increment_s; }, 1.0},
+        {"creep", "increment_growth", "creep.increment_growth", [](TestScheme& s) -> double& { return s.creep.increment_growth; }, 1.0},
+        {"creep", "max_increment_s", "creep.max_increment_s", [](TestScheme& s) -> double& { return s.creep.max_increment_s; }, 1.0},
+        {"loading", "confining_pressure_kPa", "loading.confining_pressure_pa", [](TestScheme& s) -> double& { return s.loading.confining_pressure_pa; }, 1e3},
+        {"loading", "cohesion_kPa", "loading.cohesion_pa", [](TestScheme& s) -> double& { return s.loading.cohesion_pa; }, 1e3},
+        {"loading", "friction_angle_deg", "loading.friction_angle_deg", [](TestScheme& s) -> double& { return s.loading.friction_angle_deg; }, 1.0},
+        {"loading", "shear_strain_rate_pct_per_min", "loading.shear_strain_rate_per_s", [](TestScheme& s) -> double& { return s.loading.shear_strain_rate_per_s; }, 0.01 / 60.0},
+        {"loading", "max_axial_strain_pct", "loading.max_axial_strain", [](TestScheme& s) -> double& { return s.loading.max_axial_strain; }, 0.01},
+        {"loading", "consolidation_tolerance", "loading.consolidation_tolerance", [](TestScheme& s) -> double& { return s.loading.consolidation_tolerance; }, 1.0},
+        {"effects", "rolling_friction", "effects.rolling_friction", [](TestScheme& s) -> double& { return s.effects.rolling_friction; }, 1.0},
+        {"effects", "breakage_damage_scale", "effects.breakage_damage_scale", [](TestScheme& s) -> double& { return s.effects.breakage_damage_scale; }, 1.0},
+        {"effects", "viscosity_scale", "effects.viscosity_scale", [](TestScheme& s) -> double& { return s.effects.viscosity_scale; }, 1.0},
+        {"effects", "seating_displacement_mm", "effects.seating_displacement_m", [](TestScheme& s) -> double& { return s.effects.seating_displacement_m; }, 1e-3},
+        {"effects", "membrane_modulus_kPa", "effects.membrane_modulus_pa", [](TestScheme& s) -> double& { return s.effects.membrane_modulus_pa; }, 1e3},
+        {"effects", "membrane_thickness_mm", "effects.membrane_thickness_m", [](TestScheme& s) -> double& { return s.effects.membrane_thickness_m; }, 1e-3},
+    };
+    return f;
+}
+
+const std::vector<BoolField>& bool_fields() {
+    static const std::vector<BoolField> f = {
+        {"effects", "rolling_resistance", [](TestScheme& s) -> bool& { return s.effects.rolling_resistance; }},
+        {"effects", "grain_breakage", [](TestScheme& s) -> bool& { return s.effects.grain_breakage; }},
+        {"effects", "contact_creep_viscosity", [](TestScheme& s) -> bool& { return s.effects.contact_creep_viscosity; }},
+        {"effects", "moisture_bonding", [](TestScheme& s) -> bool& { return s.effects.moisture_bonding; }},
+        {"effects", "seating_error", [](TestScheme& s) -> bool& { return s.effects.seating_error; }},
+        {"effects", "membrane_compliance", [](TestScheme& s) -> bool& { return s.effects.membrane_compliance; }},
+    };
+    return f;
+}
+
+std::string ptr(const std::string& section, const std::string& key) { return "/" + section + "/" + key; }
+
+double number_at(const json& v, const std::string& pointer) {
+    if (!v.is_number()) throw SchemeError(pointer, "must be a number, got " + std::string(v.type_name()));
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) throw SchemeError(pointer, "must be finite");
+    return d;
+}
+
+std::vector<double> number_array(const json& v, const std::string& pointer, double to_si) {
+    if (!v.is_array()) throw SchemeError(pointer, "must be an array of numbers");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < v.size(); ++i) out.push_back(to_si * number_at(v[i], pointer + "/" + std::to_string(i)));
+    return out;
+}
+
+// Maps a TestScheme::validate dotted name ("loading.stress_levels[2]") to a JSON pointer.
+std::string pointer_for(const std::string& si_field) {
+    std::string base = si_field, index;
+    if (auto b = si_field.find('['); b != std::string::npos) {
+        base = si_field.substr(0, b);
+        index = si_field.substr(b + 1, si_field.find(']') - b - 1);
+    }
+    for (const auto& f : number_fields())
+        if (base == f.si_name) return ptr(f.section, f.key);
+    static const std::map<std::string, std::string> others = {
+        {"loading.stress_levels", "/loading/stress_levels"},
+        {"loading.stage_durations_s", "/loading/stage_durations_min"},
+        {"gradation.sieve_curve", "/gradation/sieve_curve"},
+        {"gradation", "/gradation"},
+        {"threads", "/threads"},
+        {"max_particles", "/max_particles"},
+    };
+    std::string p = others.count(base) ? others.at(base) : "/" + base;
+    if (!index.empty()) p += "/" + index;
+    return p;
+}
+
+}  // namespace
+
+TestScheme scheme_from_json(const json& j) {
+    if (!j.is_object()) throw SchemeError("", "a scheme must be a JSON object");
+    TestScheme s;
+    static const std::vector<std::string> sections = {"specimen", "gradation", "micro", "creep", "loading", "effects"};
+    for (auto it = j.begin(); it != j.end(); ++it) {
+        const std::string& k = it.key();
+        const bool known = k == "name" || k == "seed" || k == "threads" || k == "max_particles" ||
+                           std::find(sections.begin(), sections.end(), k) != sections.end();
+        if (!known) throw SchemeError("/" + k, "unknown field");
+        if (k != "name" && k != "seed" && k != "threads" && k != "max_particles" && !it.value().is_object())
+            throw SchemeError("/" + k, "must be an object");
+    }
+    if (j.contains("name")) {
+        if (!j["name"].is_string()) throw SchemeError("/name", "must be a string");
+        s.name = j["name"].get<std::string>();
+    }
+    if (j.contains("seed")) {
+        if (!j["seed"].is_number_integer() || j["seed"].get<long long>() < 0)
+            throw SchemeError("/seed", "must be a non-negative integer");
+        s.seed = j["seed"].get<std::uint64_t>();
+    }
+    for (const char* key : {"threads", "max_particles"}) {
+        if (!j.contains(key)) continue;
+        if (!j[key].is_number_integer()) throw SchemeError(std::string("/") + key, "must be an integer");
+        (std::string(key) == "threads" ? s.threads : s.max_particles) = j[key].get<int>();
+    }
+    // Unknown keys inside sections.
+    for (const auto& sec : sections) {
+        if (!j.contains(sec)) continue;
+        for (auto it = j[sec].begin(); it != j[sec].end(); ++it) {
+            const std::string& k = it.key();
+            bool known = false;
+            for (const auto& f : number_fields()) known = known || (sec == f.section && k == f.key);
+            for (const auto& f : bool_fields()) known = known || (sec == f.section && k == f.key);
+            known = known || (sec == "gradation" && (k == "kind" || k == "sieve_curve")) ||
+                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition"));
+            if (!known) throw SchemeError(ptr(sec, k), "unknown field");
+        }
+    }
+    for (const auto& f : number_fields()) {
+        if (!j.contains(f.section) || !j[f.section].contains(f.key)) continue;
+        f.ref(s) = f.to_si * number_at(j[f.section][f.key], ptr(f.section, f.key));
+    }
+    for (const auto& f : bool_fields()) {
+        if (!j.contains(f.section) || !j[f.section].contains(f.key)) continue;
+        const auto& v = j[f.section][f.key];
+        if (!v.is_boolean()) throw SchemeError(ptr(f.section, f.key), "must be true or false");
+        f.ref(s) = v.get<bool>();
+    }
+    if (j.contains("gradation")) {
+        const auto& g = j["gradation"];
+        if (g.contains("kind")) {
+            const auto& k = g["kind"];
+            if (k == "radius_ratio") s.gradation.kind = protocol::GradationSpec::Kind::RadiusRatio;
+            else if (k == "sieve_curve") s.gradation.kind = protocol::GradationSpec::Kind::SieveCurve;
+            else throw SchemeError("/gradation/kind", "must be \"radius_ratio\" or \"sieve_curve\"");
+        } else if (g.contains("sieve_curve")) {
+            s.gradation.kind = protocol::GradationSpec::Kind::SieveCurve;
+        }
+        if (g.contains("sieve_curve")) {
+            const auto& c = g["sieve_curve"];
+            if (!c.is_array()) throw SchemeError("/gradation/sieve_curve", "must be an array of {size_mm, passing_pct}");
+            for (std::size_t i = 0; i < c.size(); ++i) {
+                const std::string p = "/gradation/sieve_curve/" + std::to_string(i);
+                if (!c[i].is_object() || !c[i].contains("size_mm") || !c[i].contains("passing_pct"))
+                    throw SchemeError(p, "must be an object {size_mm, passing_pct}");
+                s.gradation.sieve_curve.push_back({1e-3 * number_at(c[i]["size_mm"], p + "/size_mm"),
+                                                   number_at(c[i]["passing_pct"], p + "/passing_pct")});
+            }
+        }
+    }
+    if (j.contains("loading")) {
+        const auto& l = j["loading"];
+        if (l.contains("stress_levels")) s.loading.stress_levels = number_array(l["stress_levels"], "/loading/stress_levels", 1.0);
+        if (l.contains("stage_durations_min"))
+            s.loading.stage_durations_s = number_array(l["stage_durations_min"], "/loading/stage_durations_min", 60.0);
+        else if (l.contains("stress_levels"))  // one default duration per stage
+            s.loading.stage_durations_s.assign(s.loading.stress_levels.size(), protocol::LoadingSpec{}.stage_durations_s.front());
+        if (l.contains("stress_level_definition")) {
+            const auto& d = l["stress_level_definition"];
+            if (d == "q_over_qf") s.loading.stress_level_definition = protocol::StressLevelDefinition::DeviatorRatio;
+            else if (d == "eq1") s.loading.stress_level_definition = protocol::StressLevelDefinition::PaperEq1;
+            else throw SchemeError("/loading/stress_level_definition", "must be \"q_over_qf\" or \"eq1\"");
+        }
+    }
+    try {
+        s.validate();
+    } catch (const InputError& e) {
+        const std::string msg = e.what();
+        const auto colon = msg.find(':');
+        const std::string field = msg.substr(0, colon);
+        const std::string why = colon == std::string::npos ? msg : msg.substr(colon + 2);
+        throw SchemeError(pointer_for(field), why);
+    }
+    return s;
+}
+
+json scheme_to_json(const TestScheme& s0) {
+    TestScheme s = s0;
+    json j = json::object();
+    j["name"] = s.name;
+    j["seed"] = s.seed;
+    j["threads"] = s.threads;
+    j["max_particles"] = s.max_particles;
+    for (const auto& f : number_fields()) j[f.section][f.key] = f.ref(s) / f.to_si;
+    for (const auto& f : bool_fields()) j[f.section][f.key] = f.ref(s);
+    j["gradation"]["kind"] = s.gradation.kind == protocol::GradationSpec::Kind::SieveCurve ? "sieve_curve" : "radius_ratio";
+    json curve = json::array();
+    for (const auto& p : s.gradation.sieve_curve) curve.push_back({{"size_mm", p.size_m * 1e3}, {"passing_pct", p.passing_pct}});
+    j["gradation"]["sieve_curve"] = curve;
+    j["loading"]["stress_levels"] = s.loading.stress_levels;
+    json d = json::array();
+    for (double t : s.loading.stage_durations_s) d.push_back(t / 60.0);
+    j["loading"]["stage_durations_min"] = d;
+    j["loading"]["stress_level_definition"] =
+        s.loading.stress_level_definition == protocol::StressLevelDefinition::PaperEq1 ? "eq1" : "q_over_qf";
+    return j;
+}
+
+json presets_to_json() {
+    json arr = json::array();
+    for (const auto& g : protocol::paper_groups())
+        arr.push_back({{"name", g.name}, {"description", g.description}, {"scheme", scheme_to_json(g.scheme)}});
+    return {{"presets", arr}};
+}
+
+}  // namespace triax::io
