@@ -128,3 +128,27 @@ TEST_CASE("membrane compliance without seating is named as the artefact", "[diag
     check_step_cut(r, "membrane_compliance");
     check_parameter(r, "membrane_stiffness", 300e3);
 }
+
+TEST_CASE("a misfit outside the catalog is reported as unexplained with where it remains", "[diagnose][loop]") {
+    // Lab = base model + a stick-slip-like oscillation of q (+-4 % of q, period 3 % strain)
+    // and a creep step at 200 min: nothing in the catalog produces either shape.
+    AnalyticTriaxialModel model;
+    SyntheticLabOptions lo;
+    lo.seating_strain = 0.0;
+    LabDataset lab = make_synthetic_lab(model, {kTruth, {}}, lo);
+    for (auto& c : lab.curves) {
+        if (c.kind == CurveKind::Shear)
+            for (std::size_t i = 0; i < c.deviator_pa.size(); ++i)
+                c.deviator_pa[i] *= 1.0 + 0.04 * std::sin(2 * M_PI * c.axial_strain[i] / 0.03);
+        else
+            for (std::size_t i = 0; i < c.axial_strain.size(); ++i)
+                if (c.time_s[i] > 12000.0) c.axial_strain[i] += 3e-4 * c.stress_level;
+    }
+    Recorder rec;
+    const auto r = run_diagnosis(lab, model, DiagnoseOptions{}, rec);
+    describe(r);
+    CHECK(r.chosen_effect == "unexplained");
+    CHECK(r.effects.empty());
+    CHECK_THAT(r.verdict, Catch::Contains("unexplained") && Catch::Contains("largest in"));
+    CHECK(r.n_effective < 0.6 * r.n_readings);  // structured residual: readings are correlated
+}
