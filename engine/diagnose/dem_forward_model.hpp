@@ -1,0 +1,55 @@
+#pragma once
+// The product's forward model: the DEM triaxial protocol (engine/protocol) run at the lab
+// dataset's conditions. One simulate() = one run of run_triaxial_test per confining
+// pressure in the lab data (shear only if the lab has no creep curve at that pressure),
+// with creep stress levels and stage durations taken from the lab's creep curves.
+//
+// Base parameters (calibrated in every model):
+//   contact normal modulus E_n (log, 0.2x..5x the scheme's; E_s keeps the scheme's ratio),
+//   particle friction mu (0.1..1.0),
+//   contact bond strength (log, 0.05x..20x; normal and shear scaled together) if the
+//     scheme's specimen carries bonds,
+//   creep slip-rate scale A (log, 0.01x..100x) when the creep law is on and the lab
+//     has creep curves (otherwise the creep curves cannot inform it).
+// Effects already switched on in the scheme are part of the base model and are not
+// proposed; the others map to TestEffects:
+//   rolling_resistance      -> rolling_friction mu_r (0..0.5)
+//   bond_degradation        -> grain_breakage, breakage_damage_scale (0..10)
+//   contact_creep_viscosity -> contact_creep_viscosity, viscosity_scale (log 0.01..100)
+//   moisture_bonding        -> moisture_bonding; one parameter: bond strength scale at the
+//                              scheme's moisture (log 0.05..20)
+// Every run uses the scheme's seed (common random numbers: the same specimen for every
+// parameter set, so differences between runs are the parameters', not the packing's).
+#include "engine/diagnose/forward_model.hpp"
+#include "engine/protocol/test_scheme.hpp"
+
+namespace triax::diagnose {
+
+class DemForwardModel final : public ForwardModel {
+public:
+    // threads: OpenMP threads per run; max_particles > 0 overrides the scheme's cap.
+    DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads, int max_particles);
+
+    std::vector<ParameterSpec> base_parameters() const override;
+    std::vector<ParameterSpec> effect_parameters(Effect e) const override;
+    bool includes(Effect e) const override;
+    LabDataset simulate(const ModelPoint& point, std::uint64_t seed) const override;
+
+    // The scheme a model point runs at one confining pressure (exposed for tests and for
+    // storing the calibrated scheme).
+    protocol::TestScheme scheme_for(const ModelPoint& point, double confining_pa) const;
+
+private:
+    struct Condition {
+        double confining_pa = 0.0;
+        bool creep = false;
+        std::vector<double> stress_levels;
+        std::vector<double> durations_s;
+    };
+    protocol::TestScheme base_;
+    std::vector<Condition> conditions_;
+    bool creep_in_lab_ = false;
+    bool bonded_ = false;
+};
+
+}  // namespace triax::diagnose
