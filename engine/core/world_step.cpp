@@ -158,7 +158,8 @@ void World::compute_contact_forces() {
             wc.torque_on_particle[k].setZero();
             continue;
         }
-        const Vec3 xc = x - n * dist;
+        // PFC places the contact point in the middle of the overlap.
+        const Vec3 xc = x - n * (dist + 0.5 * (r - dist));
         const Vec3 arm = xc - x;
         LinearContact::Kinematics kin;
         kin.n = n;
