@@ -13,9 +13,23 @@
 
 namespace triax::diagnose {
 
+namespace {
+
+// Silent observer that forwards the diagnosis's cancellation into the DEM run.
+class CancelOnly final : public protocol::RunObserver {
+public:
+    explicit CancelOnly(const DiagnoseObserver* o) : o_(o) {}
+    bool cancel_requested() override { return o_ != nullptr && o_->cancelled(); }
+
+private:
+    const DiagnoseObserver* o_;
+};
+
+}  // namespace
+
 DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads,
-                                 int max_particles)
-    : base_(base) {
+                                 int max_particles, const DiagnoseObserver* cancel)
+    : base_(base), cancel_(cancel) {
     base_.validate();
     if (threads > 0) base_.threads = threads;
     if (max_particles > 0) base_.max_particles = max_particles;
@@ -156,9 +170,9 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
             s.loading.stress_levels = k.stress_levels;
             s.loading.stage_durations_s = k.durations_s;
         }
-        // A silent observer: cancellation of a diagnosis takes effect between batches of runs.
-        protocol::RunObserver quiet;
-        const auto r = protocol::run_triaxial_test(s, quiet, k.creep ? protocol::Phase::Creep : protocol::Phase::Shear);
+        CancelOnly observer(cancel_);
+        const auto r = protocol::run_triaxial_test(s, observer, k.creep ? protocol::Phase::Creep : protocol::Phase::Shear);
+        if (r.cancelled) throw DiagnosisCancelled{};
         if (!r.converged && r.shear.empty())
             throw std::runtime_error("DEM run at " + std::to_string(k.confining_pa / 1e3) + " kPa did not shear");
         LabCurve sh;
@@ -190,7 +204,7 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
 // Product entry point (declared in diagnosis.hpp).
 DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base, const DiagnoseOptions& options,
                               DiagnoseObserver& observer) {
-    const DemForwardModel model(base, lab, options.threads_per_run, options.max_particles);
+    const DemForwardModel model(base, lab, options.threads_per_run, options.max_particles, &observer);
     return run_diagnosis(lab, model, options, observer);
 }
 

@@ -25,10 +25,15 @@
 
 namespace triax::diagnose {
 
+class DiagnoseObserver;
+
 class DemForwardModel final : public ForwardModel {
 public:
     // threads: OpenMP threads per run; max_particles > 0 overrides the scheme's cap.
-    DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads, int max_particles);
+    // `cancel` (may be null) is polled inside every DEM run, from the worker threads, so a
+    // cancelled diagnosis does not wait for a long run to finish.
+    DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads, int max_particles,
+                    const DiagnoseObserver* cancel = nullptr);
 
     std::vector<ParameterSpec> base_parameters() const override;
     std::vector<ParameterSpec> effect_parameters(Effect e) const override;
@@ -47,6 +52,7 @@ private:
         std::vector<double> durations_s;
     };
     protocol::TestScheme base_;
+    const DiagnoseObserver* cancel_ = nullptr;
     std::vector<Condition> conditions_;
     bool creep_in_lab_ = false;
     bool bonded_ = false;

@@ -97,7 +97,9 @@ struct DiagnosisReport {
     std::string verdict;
 };
 
-// Observer: progress, candidate events and cancellation. Called from the calling thread.
+// Observer: progress, candidate events and cancellation. on_progress and on_candidate are
+// called from the calling thread; cancelled() also from worker threads (inside DEM runs),
+// so it must be thread-safe (e.g. read an atomic flag).
 class DiagnoseObserver {
 public:
     virtual ~DiagnoseObserver() = default;

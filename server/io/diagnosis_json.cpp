@@ -157,8 +157,9 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
 }
 
 DiagnoseOptions diagnose_options_from_json(const json& body) {
-    if (!body.is_object()) throw DiagnosisRequestError("", "request body must be a JSON object");
     DiagnoseOptions o;
+    if (body.is_null()) return o;  // no options given: all defaults
+    if (!body.is_object()) throw DiagnosisRequestError("", "diagnose options must be a JSON object");
     o.budget_runs = bounded(body, "budget_runs", 4, 400, o.budget_runs);
     o.refine_runs = bounded(body, "refine_runs", 1, 100, o.refine_runs);
     o.max_candidates = bounded(body, "max_candidates", 1, 6, o.max_candidates);

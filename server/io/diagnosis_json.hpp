@@ -32,7 +32,8 @@ nlohmann::json candidate_to_json(const diagnose::CandidateResult& candidate);
 // Optional fields: budget_runs (4..400), refine_runs (1..100), max_candidates (1..6),
 // max_effects (1..6), concurrency (1..64), threads_per_run (1..64), max_particles
 // (0..1e6, 0 = the scheme's), seed (>= 0),
-// bic_threshold (>= 0). Unknown fields are ignored (the body also carries the scheme).
+// bic_threshold (>= 0). Unknown fields are ignored (the body also carries the scheme);
+// null means all defaults.
 diagnose::DiagnoseOptions diagnose_options_from_json(const nlohmann::json& body);
 
 }  // namespace triax::io

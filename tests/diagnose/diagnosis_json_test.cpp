@@ -73,6 +73,7 @@ TEST_CASE("diagnose request options are validated with the field named", "[diagn
     CHECK(o.budget_runs == 30);
     CHECK(o.seed == 5u);
     CHECK(triax::io::diagnose_options_from_json(nlohmann::json::object()).budget_runs == DiagnoseOptions{}.budget_runs);
+    CHECK(triax::io::diagnose_options_from_json(nlohmann::json()).refine_runs == DiagnoseOptions{}.refine_runs);
     try {
         triax::io::diagnose_options_from_json({{"budget_runs", 2}});
         FAIL("budget_runs = 2 was accepted");
