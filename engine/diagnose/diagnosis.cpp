@@ -384,7 +384,7 @@ DiagnosisReport Loop::run() {
     if (rep.effects.empty()) {
         const PhaseError* worst = nullptr;
         for (const auto& e : rep.error_after)
-            if (e.phase != "all" && (!worst || e.nrmse > worst->nrmse)) worst = &e;
+            if (e.phase != "all" && e.n >= 3 && (!worst || e.nrmse > worst->nrmse)) worst = &e;
         v << "unexplained: no effect in the catalog lowers BIC by more than " << opt_.bic_threshold
           << " (n_eff = " << n_eff << " of " << n << " readings); remaining NRMSE " << 100.0 * rep.nrmse_after << " %";
         if (worst) v << ", largest in " << worst->curve << " " << worst->phase << " (" << 100.0 * worst->nrmse << " %)";

@@ -152,3 +152,35 @@ TEST_CASE("a misfit outside the catalog is reported as unexplained with where it
     CHECK_THAT(r.verdict, Catch::Contains("unexplained") && Catch::Contains("largest in"));
     CHECK(r.n_effective < 0.6 * r.n_readings);  // structured residual: readings are correlated
 }
+
+TEST_CASE("concurrent evaluations: same verdict, and reproducible for a seed", "[diagnose][loop]") {
+    AnalyticTriaxialModel model;
+    const LabDataset lab = make_synthetic_lab(model, {kTruth, {{Effect::RollingResistance, {0.2}}}}, {});
+    DiagnoseOptions opt;
+    opt.concurrency = 3;
+    Recorder a, b;
+    const auto r1 = run_diagnosis(lab, model, opt, a);
+    const auto r2 = run_diagnosis(lab, model, opt, b);
+    CHECK(r1.chosen_effect == "rolling_resistance");
+    CHECK(r1.verdict == r2.verdict);
+    REQUIRE(r1.parameters.size() == r2.parameters.size());
+    for (std::size_t i = 0; i < r1.parameters.size(); ++i) CHECK(r1.parameters[i].value == r2.parameters[i].value);
+}
+
+TEST_CASE("cancellation stops the loop with DiagnosisCancelled", "[diagnose][loop]") {
+    AnalyticTriaxialModel model;
+    const LabDataset lab = make_synthetic_lab(model, {kTruth, {}}, {});
+    Recorder rec;
+    rec.cancel = true;
+    CHECK_THROWS_AS(run_diagnosis(lab, model, DiagnoseOptions{}, rec), DiagnosisCancelled);
+}
+
+TEST_CASE("bad options are rejected before any run", "[diagnose][loop]") {
+    AnalyticTriaxialModel model;
+    const LabDataset lab = make_synthetic_lab(model, {kTruth, {}}, {});
+    Recorder rec;
+    DiagnoseOptions opt;
+    opt.budget_runs = 2;
+    CHECK_THROWS_WITH(run_diagnosis(lab, model, opt, rec), Catch::Contains("budget_runs"));
+    CHECK(rec.progress_calls == 0);
+}
