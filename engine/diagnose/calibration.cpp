@@ -32,8 +32,9 @@ Eigen::VectorXd as_eigen(const std::vector<double>& v) {
 }
 std::vector<double> as_std(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
-Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const std::vector<std::vector<double>>& residuals,
-                               const Eigen::VectorXd& c, const std::vector<double>& rc, double width) {
+Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const Eigen::VectorXd& c, const std::vector<double>& rc,
+                               double width) {
+    const auto& residuals = h.point_residuals;
     const Eigen::Index k = c.size();
     const Eigen::Index n = static_cast<Eigen::Index>(rc.size());
     Eigen::MatrixXd dtwd = Eigen::MatrixXd::Zero(k, k);
@@ -91,8 +92,18 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     const Eigen::Index k = static_cast<Eigen::Index>(st.start.size());
     if (k == 0) throw std::invalid_argument("calibrate: no parameter to calibrate (empty start point)");
     CalibrationResult res;
-    std::vector<std::vector<double>> residuals;
+    auto& residuals = res.point_residuals;
     std::size_t best = 0;
+    if (st.history)
+        for (std::size_t i = 0; i < st.history->points.size(); ++i) {
+            if (st.history->points[i].size() != st.start.size() ||
+                st.history->point_residuals.size() != st.history->points.size())
+                throw std::invalid_argument("calibrate: history is from another parameter space");
+            res.points.push_back(st.history->points[i]);
+            res.point_rss.push_back(st.history->point_rss[i]);
+            residuals.push_back(st.history->point_residuals[i]);
+            if (res.point_rss.back() < res.point_rss[best]) best = res.points.size() - 1;
+        }
 
     auto run_batch = [&](const std::vector<Eigen::VectorXd>& batch) {
         if (batch.empty()) return;
@@ -132,7 +143,7 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
         const Eigen::VectorXd c = as_eigen(res.points[best]);
         const Eigen::VectorXd rc = Eigen::Map<const Eigen::VectorXd>(residuals[best].data(),
                                                                      static_cast<Eigen::Index>(residuals[best].size()));
-        const Eigen::MatrixXd J = local_jacobian(res, residuals, c, residuals[best], std::max(radius, 0.05));
+        const Eigen::MatrixXd J = local_jacobian(res, c, residuals[best], std::max(radius, 0.05));
         const Eigen::MatrixXd jtj = J.transpose() * J;
         const Eigen::VectorXd g = J.transpose() * rc;
         const double scale = std::max(jtj.diagonal().maxCoeff(), 1e-12);
@@ -163,7 +174,7 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     res.residual = residuals[best];
     res.rss = res.point_rss[best];
     if (std::isfinite(res.rss)) {
-        const Eigen::MatrixXd J = local_jacobian(res, residuals, as_eigen(res.best), res.residual, std::max(radius, 0.1));
+        const Eigen::MatrixXd J = local_jacobian(res, as_eigen(res.best), res.residual, std::max(radius, 0.1));
         res.jacobian.assign(J.data(), J.data() + J.size());
     }
     return res;

@@ -40,6 +40,10 @@ struct CalibrationSettings {
     // Extra design points placed +-radius along each axis around the start point (useful
     // when refining from a previous optimum, where a space-filling design would waste runs).
     bool axial_design = false;
+    // Runs already made on the same parameter space (a previous calibration of the same
+    // model): they join the surrogate fits and the choice of the best point, cost nothing
+    // and are not counted in `runs`.
+    const struct CalibrationResult* history = nullptr;
 };
 
 struct CalibrationResult {
@@ -50,6 +54,7 @@ struct CalibrationResult {
                                           // column-major residual.size() x best.size()
     std::vector<UnitPoint> points;        // every run, in order
     std::vector<double> point_rss;        // RSS per run (infinity if it failed)
+    std::vector<std::vector<double>> point_residuals;  // residual per run (empty if it failed)
     int runs = 0;
 };
 

@@ -139,7 +139,8 @@ private:
         if (obs_.cancelled()) throw DiagnosisCancelled{};
     }
 
-    Fit fit(const Variant& v, const UnitPoint& start, int design_runs, int refine_runs, bool axial) {
+    Fit fit(const Variant& v, const UnitPoint& start, int design_runs, int refine_runs, bool axial,
+            const CalibrationResult* history = nullptr) {
         Fit f{v, specs_of(v), {}, 0.0};
         CalibrationSettings st;
         st.start = start;
@@ -148,6 +149,7 @@ private:
         st.batch = std::max(1, opt_.concurrency);
         st.seed = opt_.seed;
         st.axial_design = axial;
+        st.history = history;
         st.initial_radius = axial ? 0.15 : 0.25;
         f.cal = calibrate([&](const std::vector<UnitPoint>& b) { return evaluate(v, b); }, st);
         return f;
@@ -280,7 +282,7 @@ DiagnosisReport Loop::run() {
         // 3. The current model refined with the same run budget a candidate gets, so no
         //    candidate wins merely by being calibrated longer.
         stage_ = "candidates";
-        Fit same = fit(current.variant, current.cal.best, 0, opt_.refine_runs, false);
+        Fit same = fit(current.variant, current.cal.best, 0, opt_.refine_runs, false, &current.cal);
         if (same.cal.rss > current.cal.rss) same = current;
 
         std::vector<Fit> fits;
