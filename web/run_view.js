@@ -132,8 +132,14 @@ export class RunView {
   async loadSummary() {
     try {
       const s = await getJSON(`/runs/${this.id}/results/summary`);
-      const rows = Object.entries(s).filter(([, v]) => v == null || typeof v !== 'object')
-        .map(([k, v]) => el('tr', {}, el('th', {}, axisLabel(k)), el('td', {}, typeof v === 'number' ? Number(v.toPrecision(6)) : String(v))));
+      // Scalars, and one level of nested objects (e.g. consolidation) as "group · field".
+      const flat = [];
+      for (const [k, v] of Object.entries(s)) {
+        if (v && typeof v === 'object' && !Array.isArray(v)) for (const [k2, v2] of Object.entries(v)) flat.push([`${axisLabel(k)} · ${axisLabel(k2)}`, v2]);
+        else if (!Array.isArray(v)) flat.push([axisLabel(k), v]);
+      }
+      const rows = flat.filter(([, v]) => v == null || typeof v !== 'object')
+        .map(([k, v]) => el('tr', {}, el('th', {}, k), el('td', {}, typeof v === 'number' ? Number(v.toPrecision(6)) : String(v))));
       const parts = [el('h3', {}, 'Summary'), el('table', { class: 'kv', id: 'run-summary' }, rows)];
       if (Array.isArray(s.creep_stages) && s.creep_stages.length) {
         const cols = Object.keys(s.creep_stages[0]);
