@@ -15,6 +15,9 @@ namespace triax {
 namespace {
 
 constexpr int kBlock = 1024;
+// Below this many items a parallel region costs more than it saves (thread wake-up);
+// the block structure is the same either way, so results do not change.
+constexpr long kParallelMin = 4096;
 
 struct ContactSums {
     double strain = 0, bond_strain = 0, slip = 0, dashpot = 0, bond_break = 0;
@@ -43,7 +46,7 @@ void ball_contacts(ContactStore& c, const ParticleArrays& pa, const std::vector<
     const long ns = static_cast<long>(c.size());
     const long nb = (ns + kBlock - 1) / kBlock;
     blocks.assign(nb, ContactSums{});
-#pragma omp parallel for schedule(static) num_threads(threads)
+#pragma omp parallel for schedule(static) num_threads(threads) if (ns >= kParallelMin)
     for (long b = 0; b < nb; ++b) {
         ContactSums sums;
         const long end = std::min(ns, (b + 1) * kBlock);
@@ -219,7 +222,7 @@ void World::gather_and_integrate() {
     const Vec3 lo = has_domain ? domain_->first : Vec3::Zero();
     const Vec3 hi = has_domain ? domain_->second : Vec3::Zero();
 
-#pragma omp parallel for schedule(static) num_threads(threads_)
+#pragma omp parallel for schedule(static) num_threads(threads_) if (n >= kParallelMin)
     for (long b = 0; b < nb; ++b) {
         ParticleSums s;
         const long end = std::min(n, (b + 1) * kBlock);

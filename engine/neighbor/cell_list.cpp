@@ -53,7 +53,8 @@ void CellList::build(const std::vector<Vec3>& position, const std::vector<double
         for (int p = 0; p < n; ++p) cell_members_[fill[cell_of_[p]]++] = p;
     }
 
-    const int nt = std::max(1, threads);
+    // Small lists are built by one thread (same result, no wake-up cost).
+    const int nt = n >= 4096 ? std::max(1, threads) : 1;
     thread_i_.resize(nt);
     thread_j_.resize(nt);
     // Static chunks of particles per thread: each thread's pairs come out sorted by i,

@@ -64,6 +64,9 @@ struct CreepLawParameters {
     // mobilised friction ratio f = |Fs| / (mu Fn). Lumped here as v = A sinh(beta f).
     double slip_rate_a_m_s = 2.0e-10;      // A: slip rate scale (m/s) at f ~ 1/beta
     double slip_beta = 6.0;                // beta: sensitivity to mobilisation
+    // Asperity hardening: the rate decays as exp(-s / s_h) with the contact's accumulated
+    // creep slip s (interlocking as pores close: decelerating creep).
+    double slip_hardening_length_m = 5.0e-6;
     // Stress corrosion: dD/dt = b1 exp(b2 (sigma/sigma_c)) when sigma/sigma_c > threshold.
     double damage_rate_b1_per_s = 1.0e-8;
     double damage_b2 = 12.0;
