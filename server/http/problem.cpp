@@ -1,0 +1,73 @@
+#include "server/http/problem.hpp"
+
+#include <charconv>
+#include <cmath>
+
+namespace triax::service {
+
+nlohmann::json problem_json(const ApiError& e, const std::string& instance) {
+    nlohmann::json p{{"type", "about:blank"}, {"title", e.title}, {"status", e.status}, {"detail", e.what()},
+                     {"instance", instance}};
+    if (e.field) p["field"] = *e.field;
+    if (e.line) p["line"] = *e.line;
+    if (e.column) p["column"] = *e.column;
+    if (e.limit) p["limit"] = *e.limit;
+    return p;
+}
+
+void send_problem(httplib::Response& res, const ApiError& e, const std::string& instance) {
+    res.status = e.status;
+    res.set_content(problem_json(e, instance).dump(), "application/problem+json");
+}
+
+void send_json(httplib::Response& res, const nlohmann::json& body, int status) {
+    res.status = status;
+    res.set_content(body.dump(), "application/json");
+}
+
+nlohmann::json parse_body(const httplib::Request& req) {
+    if (req.body.empty()) throw bad_request("request body is empty; a JSON document is expected");
+    try {
+        return nlohmann::json::parse(req.body);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw bad_request("request body is not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
+    }
+}
+
+std::int64_t path_id(const httplib::Request& req, std::size_t index) {
+    const std::string s = req.matches.size() > index ? std::string(req.matches[index]) : std::string();
+    std::int64_t v = 0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || p != s.data() + s.size() || v <= 0) throw not_found("no resource with id '" + s + "'");
+    return v;
+}
+
+std::optional<double> query_number(const httplib::Request& req, const std::string& name) {
+    if (!req.has_param(name.c_str())) return std::nullopt;
+    const auto s = req.get_param_value(name.c_str());
+    try {
+        std::size_t used = 0;
+        double v = std::stod(s, &used);
+        if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument(s);
+        return v;
+    } catch (const std::exception&) {
+        throw bad_request("query parameter '" + name + "' must be a finite number, got '" + s + "'");
+    }
+}
+
+std::optional<std::int64_t> query_int(const httplib::Request& req, const std::string& name, std::int64_t lo,
+                                      std::int64_t hi) {
+    if (!req.has_param(name.c_str())) return std::nullopt;
+    const auto s = req.get_param_value(name.c_str());
+    std::int64_t v = 0;
+    auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || p != s.data() + s.size())
+        throw bad_request("query parameter '" + name + "' must be an integer, got '" + s + "'");
+    if (v < lo || v > hi)
+        throw unprocessable("query parameter '" + name + "' = " + s + " is outside [" + std::to_string(lo) + ", " +
+                            std::to_string(hi) + "]")
+            .with_limit(std::to_string(lo) + " <= " + name + " <= " + std::to_string(hi));
+    return v;
+}
+
+}  // namespace triax::service

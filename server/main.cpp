@@ -1,0 +1,87 @@
+// triaxd: the REST service. Flags override environment (TRIAX_HOST, TRIAX_PORT,
+// TRIAX_DATA_DIR), which override the defaults (127.0.0.1:8080, ./data). Prints the
+// listening URL on stdout once the socket is bound (the browser test waits for it).
+#include "server/runs/engine_executor.hpp"
+#include "server/service.hpp"
+
+#include <csignal>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+namespace {
+
+triax::service::Service* g_service = nullptr;
+
+void on_signal(int) {
+    // httplib::Server::stop only flips flags and shuts the listening socket down.
+    if (g_service) g_service->http.stop();
+}
+
+void usage() {
+    std::cout << "usage: triaxd [--host H] [--port P] [--data-dir DIR] [--web-dir DIR] [--schema-dir DIR]\n"
+                 "              [--workers N] [--threads-per-run N] [--queue-limit N] [--max-particles N]\n"
+                 "env: TRIAX_HOST, TRIAX_PORT, TRIAX_DATA_DIR\n";
+}
+
+int to_int(const std::string& flag, const std::string& v) {
+    try {
+        std::size_t used = 0;
+        const int n = std::stoi(v, &used);
+        if (used != v.size()) throw std::invalid_argument(v);
+        return n;
+    } catch (const std::exception&) {
+        throw std::invalid_argument(flag + " expects an integer, got '" + v + "'");
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    triax::service::ServiceConfig cfg;
+    try {
+        if (const char* e = std::getenv("TRIAX_HOST")) cfg.host = e;
+        if (const char* e = std::getenv("TRIAX_PORT")) cfg.port = to_int("TRIAX_PORT", e);
+        if (const char* e = std::getenv("TRIAX_DATA_DIR")) cfg.data_dir = e;
+        for (int i = 1; i < argc; ++i) {
+            const std::string a = argv[i];
+            if (a == "-h" || a == "--help") {
+                usage();
+                return 0;
+            }
+            if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value (or unknown flag)");
+            const std::string v = argv[++i];
+            if (a == "--host") cfg.host = v;
+            else if (a == "--port") cfg.port = to_int(a, v);
+            else if (a == "--data-dir") cfg.data_dir = v;
+            else if (a == "--web-dir") cfg.web_dir = v;
+            else if (a == "--schema-dir") cfg.schema_dir = v;
+            else if (a == "--workers") cfg.workers = to_int(a, v);
+            else if (a == "--threads-per-run") cfg.threads_per_run = to_int(a, v);
+            else if (a == "--queue-limit") cfg.queue_limit = to_int(a, v);
+            else if (a == "--max-particles") cfg.max_particles = to_int(a, v);
+            else throw std::invalid_argument("unknown flag " + a);
+        }
+    } catch (const std::exception& e) {
+        std::cerr << "triaxd: " << e.what() << "\n";
+        usage();
+        return 2;
+    }
+    try {
+        triax::service::Service service(cfg, triax::service::make_engine_executor());
+        g_service = &service;
+        std::signal(SIGINT, on_signal);
+        std::signal(SIGTERM, on_signal);
+        service.bind();
+        if (service.interrupted_at_start > 0)
+            std::cerr << "triaxd: " << service.interrupted_at_start << " job(s) of the previous process marked interrupted\n";
+        std::cout << "triaxd listening on " << service.url() << std::endl;
+        const bool ok = service.listen();
+        g_service = nullptr;
+        service.stop();
+        return ok ? 0 : 1;
+    } catch (const std::exception& e) {
+        std::cerr << "triaxd: " << e.what() << "\n";
+        return 1;
+    }
+}

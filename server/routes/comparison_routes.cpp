@@ -1,0 +1,177 @@
+// POST /comparisons {"run_id","dataset_id"}, GET /comparisons, GET /comparisons/{id}.
+// Every measured curve of the dataset is aligned with the run's matching series
+// (diagnose::compare_curve: model interpolated at the lab abscissa) and the metrics and
+// residuals are stored:
+//   shear curve  -> stress_strain (q_kPa vs axial_strain_pct) and volumetric
+//                   (volumetric_strain_pct vs axial_strain_pct) when measured;
+//   creep stage k -> creep stage k (axial_deformation_mm vs time_min, or axial_strain_pct).
+#include "engine/diagnose/metrics.hpp"
+#include "server/http/problem.hpp"
+#include "server/runs/series.hpp"
+#include "server/service.hpp"
+
+#include <cmath>
+
+namespace triax::service {
+
+using nlohmann::json;
+
+namespace {
+
+std::vector<double> column(const json& rows, std::size_t c, int stage = -1) {
+    std::vector<double> out;
+    for (const auto& r : rows) {
+        if (stage >= 0 && !(r[0].is_number() && r[0].get<int>() == stage)) continue;
+        out.push_back(r[c].is_number() ? r[c].get<double>() : NAN);
+    }
+    return out;
+}
+
+std::vector<double> scaled(const std::vector<double>& v, double f) {
+    std::vector<double> out(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) out[i] = v[i] * f;
+    return out;
+}
+
+// Drops pairs with a missing value on either side.
+void drop_missing(std::vector<double>& x, std::vector<double>& y) {
+    std::vector<double> xs, ys;
+    for (std::size_t i = 0; i < x.size() && i < y.size(); ++i)
+        if (std::isfinite(x[i]) && std::isfinite(y[i])) { xs.push_back(x[i]); ys.push_back(y[i]); }
+    x = std::move(xs);
+    y = std::move(ys);
+}
+
+json metrics_json(const char* curve, json stage, const char* xname, const char* yname, const char* unit,
+                  const diagnose::CurveMetrics& m) {
+    json residual = json::array();
+    for (const auto& p : m.points) residual.push_back({p.x, p.model, p.lab, p.residual});
+    return {{"curve", curve}, {"stage", stage}, {"x", xname}, {"y", yname}, {"unit", unit},
+            {"n", m.n}, {"dropped", m.dropped}, {"rmse", m.rmse}, {"nrmse", m.nrmse}, {"r2", m.r2},
+            {"max_error", m.max_error}, {"residual", residual}};
+}
+
+json compare(Service& s, std::int64_t run_id, std::int64_t dataset_id) {
+    const auto status = s.runs.status(run_id);
+    const auto doc = s.runs.result(run_id);
+    if (!doc)
+        throw conflict("run " + std::to_string(run_id) + " is " + status["status"].get<std::string>() +
+                       "; compare a run that is done")
+            .at_field("/run_id");
+    const auto dataset = load_dataset(s, dataset_id, nullptr);
+    const json& series = (*doc)["series"];
+    const json& summary = (*doc)["summary"];
+    json curves = json::array(), skipped = json::array(), warnings = json::array();
+    const double sigma3_kpa = summary.value("sigma3_kPa", 0.0);
+
+    for (const auto& c : dataset.curves) {
+        const double lab_sigma3 = c.confining_pa * 1e-3;
+        if (sigma3_kpa > 0 && std::abs(lab_sigma3 - sigma3_kpa) > 0.02 * sigma3_kpa)
+            warnings.push_back("lab curve at " + std::to_string(lab_sigma3) + " kPa confining vs run at " +
+                               std::to_string(sigma3_kpa) + " kPa");
+        if (c.kind == diagnose::CurveKind::Shear) {
+            if (c.axial_strain.empty()) {
+                skipped.push_back(json{{"curve", "stress_strain"}, {"stage", nullptr}, {"reason", "no axial strain measured"}});
+                continue;
+            }
+            const auto lab_x = scaled(c.axial_strain, 100.0);
+            if (!c.deviator_pa.empty()) {
+                auto mx = column(series["stress_strain"], 0), my = column(series["stress_strain"], 1);
+                drop_missing(mx, my);
+                if (mx.size() < 2) skipped.push_back(json{{"curve", "stress_strain"}, {"stage", nullptr}, {"reason", "the run has no shear curve"}});
+                else curves.push_back(metrics_json("stress_strain", nullptr, "axial_strain_pct", "q_kPa", "kPa",
+                                                   diagnose::compare_curve(mx, my, lab_x, scaled(c.deviator_pa, 1e-3))));
+            }
+            if (!c.volumetric_strain.empty()) {
+                auto mx = column(series["volumetric"], 0), my = column(series["volumetric"], 1);
+                drop_missing(mx, my);
+                if (mx.size() < 2) skipped.push_back(json{{"curve", "volumetric"}, {"stage", nullptr}, {"reason", "the run has no volumetric curve"}});
+                else curves.push_back(metrics_json("volumetric", nullptr, "axial_strain_pct", "volumetric_strain_pct", "%",
+                                                   diagnose::compare_curve(mx, my, lab_x, scaled(c.volumetric_strain, 100.0))));
+            }
+        } else {
+            if (c.time_s.empty() || (c.axial_deformation_m.empty() && c.axial_strain.empty())) {
+                skipped.push_back(json{{"curve", "creep"}, {"stage", c.stage}, {"reason", "needs time and axial deformation or strain"}});
+                continue;
+            }
+            const bool by_deformation = !c.axial_deformation_m.empty();
+            auto mx = column(series["creep"], 1, c.stage);
+            auto my = column(series["creep"], by_deformation ? 2 : 3, c.stage);
+            drop_missing(mx, my);
+            if (mx.size() < 2) {
+                skipped.push_back(json{{"curve", "creep"}, {"stage", c.stage}, {"reason", "the run has no creep stage " + std::to_string(c.stage)}});
+                continue;
+            }
+            const auto lab_y = by_deformation ? scaled(c.axial_deformation_m, 1e3) : scaled(c.axial_strain, 100.0);
+            curves.push_back(metrics_json("creep", c.stage, "time_min",
+                                          by_deformation ? "axial_deformation_mm" : "axial_strain_pct",
+                                          by_deformation ? "mm" : "%",
+                                          diagnose::compare_curve(mx, my, scaled(c.time_s, 1.0 / 60.0), lab_y)));
+        }
+    }
+    if (curves.empty())
+        throw unprocessable("no curve of dataset " + std::to_string(dataset_id) + " could be aligned with run " +
+                            std::to_string(run_id))
+            .at_field("/dataset_id");
+    return {{"curves", curves}, {"skipped", skipped}, {"warnings", warnings}};
+}
+
+json load_comparison(Statement& st) {
+    json out = json::parse(st.text(3));
+    out["id"] = st.int64(0);
+    out["run_id"] = st.int64(1);
+    out["dataset_id"] = st.int64(2);
+    out["created_at"] = st.text(4);
+    return out;
+}
+
+}  // namespace
+
+void register_comparison_routes(Service& s) {
+    s.route("POST", "/comparisons", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto body = parse_body(req);
+        if (!body.is_object()) throw unprocessable("the body must be {\"run_id\":..,\"dataset_id\":..}").at_field("");
+        for (const char* k : {"run_id", "dataset_id"})
+            if (!body.contains(k) || !body[k].is_number_integer() || body[k].get<long long>() < 1)
+                throw unprocessable(std::string(k) + " must be a positive integer").at_field(std::string("/") + k);
+        const auto run_id = body["run_id"].get<std::int64_t>(), dataset_id = body["dataset_id"].get<std::int64_t>();
+        if (!s.runs.exists(run_id)) throw not_found("run " + std::to_string(run_id) + " does not exist").at_field("/run_id");
+        json result = compare(s, run_id, dataset_id);
+        const auto created = utc_now();
+        const auto id = s.db.transaction([&](Database& db) {
+            auto ins = db.prepare("INSERT INTO comparisons(run_id, dataset_id, result_json, created_at) VALUES (?, ?, ?, ?)");
+            ins.bind_all(run_id, dataset_id, result.dump(), created);
+            ins.run();
+            return db.last_insert_id();
+        });
+        result["id"] = id;
+        result["run_id"] = run_id;
+        result["dataset_id"] = dataset_id;
+        result["created_at"] = created;
+        res.set_header("Location", "/comparisons/" + std::to_string(id));
+        send_json(res, result, 201);
+    });
+    s.route("GET", "/comparisons", [&s](const httplib::Request&, httplib::Response& res) {
+        json list = json::array();
+        s.db.with([&](Database& db) {
+            auto st = db.prepare("SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons ORDER BY id DESC");
+            while (st.step()) {
+                auto c = load_comparison(st);
+                for (auto& curve : c["curves"]) curve.erase("residual");  // listing: metrics only
+                list.push_back(std::move(c));
+            }
+        });
+        send_json(res, {{"comparisons", list}});
+    });
+    s.route("GET", R"(/comparisons/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto id = path_id(req);
+        send_json(res, s.db.with([&](Database& db) {
+            auto st = db.prepare("SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons WHERE id = ?");
+            st.bind_all(id);
+            if (!st.step()) throw not_found("comparison " + std::to_string(id) + " does not exist");
+            return load_comparison(st);
+        }));
+    });
+}
+
+}  // namespace triax::service

@@ -1,0 +1,107 @@
+// POST /datasets (csv | gds | ags | json upload), GET /datasets, GET /datasets/{id},
+// DELETE /datasets/{id}. The stored form is the canonical dataset in lab units
+// (lab_dataset_to_json), so every format reads back the same way.
+#include "server/http/problem.hpp"
+#include "server/io/lab_format.hpp"
+#include "server/service.hpp"
+
+namespace triax::service {
+
+using nlohmann::json;
+
+namespace {
+
+json dataset_header(std::int64_t id, const std::string& name, const std::string& format, const std::string& created,
+                    const diagnose::LabDataset& d) {
+    return {{"id", id},
+            {"name", name},
+            {"format", format},
+            {"created_at", created},
+            {"curves", io::lab_curve_index(d)},
+            {"summary", io::lab_dataset_to_json(d)["summary"]}};
+}
+
+}  // namespace
+
+diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name) {
+    return s.db.with([&](Database& db) {
+        auto st = db.prepare("SELECT name, dataset_json FROM datasets WHERE id = ?");
+        st.bind_all(id);
+        if (!st.step()) throw not_found("dataset " + std::to_string(id) + " does not exist");
+        if (name) *name = st.text(0);
+        return io::parse_lab_json(json::parse(st.text(1)));
+    });
+}
+
+void register_dataset_routes(Service& s) {
+    s.route("POST", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
+        if (req.body.empty()) throw bad_request("the request body is empty; upload the file as the body");
+        io::LabFormat format;
+        if (req.has_param("format")) {
+            auto f = io::lab_format_from_name(req.get_param_value("format"));
+            if (!f) throw bad_request("format must be one of csv, gds, ags, json; got '" + req.get_param_value("format") + "'");
+            format = *f;
+        } else {
+            format = io::sniff_lab_format(req.body);
+        }
+        diagnose::LabDataset d;
+        try {
+            d = io::parse_lab_dataset(req.body, format);
+        } catch (const io::LabParseError& e) {
+            auto err = unprocessable(std::string(io::lab_format_name(format)) + " upload: " + e.what());
+            if (e.line > 0) err.at(e.line, e.column);
+            if (!e.field.empty()) err.at_field(e.field);
+            throw err;
+        }
+        std::string name = req.has_param("name") ? req.get_param_value("name") : d.name;
+        if (name.empty()) name = "dataset";
+        if (name.size() > 200) throw unprocessable("name is longer than 200 characters").with_limit("name length <= 200");
+        d.name = name;
+        const auto created = utc_now();
+        const auto fmt = io::lab_format_name(format);
+        const auto id = s.db.transaction([&](Database& db) {
+            auto ins = db.prepare("INSERT INTO datasets(name, format, dataset_json, created_at) VALUES (?, ?, ?, ?)");
+            ins.bind_all(name, fmt, io::lab_dataset_to_json(d).dump(), created);
+            ins.run();
+            return db.last_insert_id();
+        });
+        res.set_header("Location", "/datasets/" + std::to_string(id));
+        send_json(res, dataset_header(id, name, fmt, created, d), 201);
+    });
+    s.route("GET", "/datasets", [&s](const httplib::Request&, httplib::Response& res) {
+        json list = json::array();
+        s.db.with([&](Database& db) {
+            auto st = db.prepare("SELECT id, name, format, created_at, dataset_json FROM datasets ORDER BY id DESC");
+            while (st.step()) {
+                const auto d = io::parse_lab_json(json::parse(st.text(4)));
+                list.push_back(dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), d));
+            }
+        });
+        send_json(res, {{"datasets", list}});
+    });
+    s.route("GET", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto id = path_id(req);
+        json out = s.db.with([&](Database& db) {
+            auto st = db.prepare("SELECT id, name, format, created_at, dataset_json FROM datasets WHERE id = ?");
+            st.bind_all(id);
+            if (!st.step()) throw not_found("dataset " + std::to_string(id) + " does not exist");
+            const auto doc = json::parse(st.text(4));
+            auto h = dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), io::parse_lab_json(doc));
+            h["data"] = doc;
+            return h;
+        });
+        send_json(res, out);
+    });
+    s.route("DELETE", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto id = path_id(req);
+        s.db.transaction([&](Database& db) {
+            auto del = db.prepare("DELETE FROM datasets WHERE id = ?");
+            del.bind_all(id);
+            del.run();
+            if (db.changes() == 0) throw not_found("dataset " + std::to_string(id) + " does not exist");
+        });
+        res.status = 204;
+    });
+}
+
+}  // namespace triax::service

@@ -1,0 +1,58 @@
+#pragma once
+// Runs as a resource: creation (queued), the job that executes one run on a worker, cancel,
+// re-run, status, and recovery at start-up. A run's state lives in the `runs` table and its
+// history in `run_events`; every state change and its event are written in one transaction
+// so the row and the stream never disagree, even after kill -9.
+#include "server/events/event_log.hpp"
+#include "server/jobs/job_queue.hpp"
+#include "server/runs/run_executor.hpp"
+#include "server/store/database.hpp"
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+namespace triax::service {
+
+class RunService {
+public:
+    RunService(Database& db, EventLog& events, JobQueue& queue, RunExecutor executor, int default_threads,
+               int max_threads);
+
+    // Start-up: runs left queued or running by a previous process become "interrupted"
+    // (with an error event, so their streams end). Returns how many.
+    int recover_interrupted();
+
+    // Inserts a queued run and enqueues it. ApiError 429 when the queue is full, 422 for a
+    // thread count outside [1, max_threads].
+    nlohmann::json submit(std::int64_t scheme_id, std::optional<int> threads, std::optional<std::int64_t> rerun_of = {});
+    void cancel(std::int64_t id);
+    nlohmann::json rerun(std::int64_t id);
+
+    nlohmann::json status(std::int64_t id);  // 404 if unknown
+    nlohmann::json list();
+    bool exists(std::int64_t id);
+    // The stored result document (summary + series) once done.
+    std::optional<nlohmann::json> result(std::int64_t id);
+    // Data of every event of `type`, in order (partial series while running).
+    std::vector<nlohmann::json> event_data(std::int64_t id, const std::string& type);
+
+    // Graceful stop: running runs are asked to stop and recorded as "interrupted".
+    void begin_shutdown();
+
+private:
+    void execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel);
+    void finish(std::int64_t id, const std::string& status, const std::string& detail);
+    Database& db_;
+    EventLog& events_;
+    JobQueue& queue_;
+    RunExecutor executor_;
+    int default_threads_, max_threads_;
+    std::mutex mutex_;
+    std::map<std::int64_t, std::shared_ptr<std::atomic<bool>>> cancel_flags_;
+    std::atomic<bool> shutting_down_{false};
+};
+
+}  // namespace triax::service
