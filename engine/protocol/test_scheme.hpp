@@ -40,7 +40,7 @@ struct GradationSpec {
 // linear normal stiffness of a pair is kn = pi * r_eff * E_n / 2 and ks likewise with E_s.
 struct MicroParameters {
     double friction = 0.4;                       // mu, particle-particle
-    double wall_friction = 0.0;                  // platens lubricated
+    double wall_friction = 0.4;                  // rough platens (porous stones); also stops rigid drift
     double local_damping = 0.7;                  // PFC local damping alpha
     double normal_modulus_pa = 230.15e6;         // Table 3 "230.15" read as MPa
     double shear_modulus_pa = 150.63e6;          // Table 3 "150.63" read as MPa

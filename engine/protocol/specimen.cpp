@@ -1,0 +1,177 @@
+#include "engine/protocol/specimen.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/creep/moisture_bond.hpp"
+#include "engine/protocol/gradation.hpp"
+
+namespace triax::protocol {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kMembraneUpdateEvery = 10;
+}  // namespace
+
+Specimen::Specimen(const TestScheme& s) : scheme_(s) {
+    s.validate();
+    const double R = 0.5 * s.specimen.diameter_m, H = s.specimen.height_m;
+    const double v_total = kPi * R * R * H;
+    solid_volume_ = (1.0 - s.specimen.target_porosity) * v_total;
+    // Grain density from the dry density at the target porosity: rho_d = rho_s (1 - n).
+    soil_density_ = s.specimen.dry_density_kg_m3 / (1.0 - s.specimen.target_porosity);
+
+    std::mt19937_64 rng(s.seed);
+    GradationSpec g = s.gradation;
+    std::vector<double> radii = draw_radii(g, solid_volume_, rng);
+    if (s.max_particles > 0 && static_cast<int>(radii.size()) > s.max_particles) {
+        // Reduced specimen: the same gradation shape scaled up until the count fits.
+        const double f = std::cbrt(static_cast<double>(radii.size()) / s.max_particles) * 1.02;
+        g.r_min_m *= f;
+        for (auto& p : g.sieve_curve) p.size_m *= f;
+        g.fines_cutoff_m *= f;
+        rng.seed(s.seed);
+        radii = draw_radii(g, solid_volume_, rng);
+    }
+    soil_count_ = static_cast<int>(radii.size());
+    double rsum = 0.0, rmin = 1e9;
+    for (double r : radii) { rsum += r; rmin = std::min(rmin, r); }
+    r_mean_ = rsum / soil_count_;
+    mean_diameter_ = 2.0 * r_mean_;
+    // Table 3 moduli (docs/parameters.md): kn = pi r_mean E_n / 2 for the mean grain.
+    soil_kn_ = 0.5 * kPi * r_mean_ * s.micro.normal_modulus_pa;
+
+    // Soil placed at 60 % of final size, largest first, rejection sampling.
+    constexpr double kShrink = 0.6;
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<Vec3> placed;
+    placed.reserve(radii.size());
+    for (double r_full : radii) {
+        const double r = kShrink * r_full;
+        Vec3 best = Vec3::Zero();
+        double best_gap = -1e9;
+        for (int attempt = 0; attempt < 300; ++attempt) {
+            const double rr = (R - r_full) * std::sqrt(u(rng)), th = 2.0 * kPi * u(rng);
+            const Vec3 x(rr * std::cos(th), rr * std::sin(th), -0.5 * H + r_full + (H - 2.0 * r_full) * u(rng));
+            double gap = 1e9;
+            for (std::size_t q = 0; q < placed.size(); ++q)
+                gap = std::min(gap, (x - placed[q]).norm() - r - kShrink * radii[q]);
+            if (gap > best_gap) { best_gap = gap; best = x; }
+            if (gap >= 0.0) break;
+        }
+        placed.push_back(best);
+    }
+    for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], kShrink * radii[q], soil_density_, kSoilGroup);
+
+    double rm = s.micro.membrane_particle_radius_m;
+    if (rm <= 0.0) rm = std::clamp(rmin, 1.0e-3, 0.05 * s.specimen.diameter_m);
+    membrane_ = std::make_unique<boundary::Membrane>(world_, R, H, rm, 1000.0, kMembraneGroup);
+    world_.add_plane_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), kPlatenGroup);
+    world_.add_plane_wall(Vec3(0, 0, 0.5 * H), -Vec3::UnitZ(), kPlatenGroup);
+    world_.set_domain(Vec3(-3 * R, -3 * R, -1.5 * H), Vec3(3 * R, 3 * R, 1.5 * H));
+    set_laws(false);
+    world_.set_local_damping(s.micro.local_damping);
+    world_.set_density_scaling(true);
+    world_.set_threads(s.threads);
+    // Density scaling makes any dt stable; pick the inertial step of the smallest grain.
+    const double m_min = soil_density_ * 4.0 / 3.0 * kPi * rmin * rmin * rmin;
+    world_.set_time_step(0.5 * std::sqrt(m_min / soil_kn_));
+    membrane_->bond(world_, 1.0e9);
+    membrane_->set_fixed(world_, true);
+
+    // Radius expansion to full size, frictionless, inside the held membrane.
+    auto& p = world_.particles();
+    constexpr int kGrowthSteps = 8;
+    for (int k = 1; k <= kGrowthSteps; ++k) {
+        const double f = (kShrink + (1.0 - kShrink) * k / kGrowthSteps) / (kShrink + (1.0 - kShrink) * (k - 1) / kGrowthSteps);
+        for (int q = 0; q < soil_count_; ++q) {
+            p.radius[q] *= f;
+            p.mass[q] *= f * f * f;
+            p.inertia[q] *= f * f * f * f * f;
+        }
+        world_.invalidate_neighbors();
+        world_.cycle(400);
+    }
+    for (int k = 0; k < 40 && world_.unbalanced_force_ratio() > 0.01; ++k) world_.cycle(250);
+}
+
+ContactLaw Specimen::soil_law(bool friction_on) const {
+    ContactLaw l;
+    l.kn = soil_kn_;
+    l.ks = soil_kn_ * scheme_.micro.shear_modulus_pa / scheme_.micro.normal_modulus_pa;
+    l.friction = friction_on ? scheme_.micro.friction : 0.0;
+    const double rr = scheme_.effects.rolling_resistance ? scheme_.effects.rolling_friction : scheme_.micro.rolling_friction;
+    l.rolling_friction = friction_on ? rr : 0.0;
+    return l;
+}
+
+void Specimen::set_laws(bool friction_on) {
+    world_.set_contact_law(kSoilGroup, kSoilGroup, soil_law(friction_on));
+    ContactLaw sm;  // soil on membrane: a soft latex skin, frictionless
+    sm.kn = sm.ks = std::min(soil_kn_, 10.0 * scheme_.micro.membrane_stiffness_n_m);
+    sm.ks = 0.0;
+    sm.friction = 0.0;
+    world_.set_contact_law(kSoilGroup, kMembraneGroup, sm);
+    ContactLaw mm;
+    mm.kn = mm.ks = scheme_.micro.membrane_stiffness_n_m;
+    mm.friction = 0.0;
+    world_.set_contact_law(kMembraneGroup, kMembraneGroup, mm);
+    ContactLaw ws;
+    // Table 3 platens (1e8 N/m) are far stiffer than a grain contact; above ~10 x the
+    // grain stiffness the platen is rigid for the skeleton, while a stiffer spring only
+    // slows density-scaled relaxation (docs/parameters.md).
+    ws.kn = std::min(scheme_.micro.wall_normal_stiffness_n_m, 10.0 * soil_kn_);
+    ws.ks = std::min(scheme_.micro.wall_shear_stiffness_n_m, 10.0 * soil_kn_);
+    ws.friction = friction_on ? scheme_.micro.wall_friction : 0.0;
+    world_.set_contact_law(kSoilGroup, kPlatenGroup, ws);
+    ContactLaw wm;
+    wm.kn = scheme_.micro.membrane_stiffness_n_m;
+    wm.ks = 0.0;
+    wm.friction = 0.0;
+    world_.set_contact_law(kMembraneGroup, kPlatenGroup, wm);
+}
+
+void Specimen::install_test_laws() { set_laws(true); }
+
+long Specimen::install_soil_bonds() {
+    const double factor = scheme_.effects.moisture_bonding ? creep::bond_strength_factor(scheme_.specimen.moisture_content) : 1.0;
+    world_.bond_contacts(kSoilGroup, kSoilGroup, 1.0e-3 * r_mean_, 1.0, 1.0);
+    auto& c = world_.contacts();
+    const auto& r = world_.particles().radius;
+    long n = 0;
+    for (std::size_t k = 0; k < c.i.size(); ++k) {
+        if (!c.bonded[k]) continue;
+        const int a = c.i[k], b = c.j[k];
+        if (world_.particles().group[a] != kSoilGroup || world_.particles().group[b] != kSoilGroup) continue;
+        const double rmin = std::min(r[a], r[b]);
+        c.bond_normal_strength[k] = factor * scheme_.micro.bond_normal_strength_pa * kPi * rmin * rmin;
+        c.bond_shear_strength[k] = factor * scheme_.micro.bond_shear_strength_pa * kPi * rmin * rmin;
+        ++n;
+    }
+    return n;
+}
+
+void Specimen::cycle(long n, double confining_pa) {
+    for (long done = 0; done < n; done += kMembraneUpdateEvery) {
+        membrane_->apply_pressure(world_, confining_pa);
+        world_.cycle(std::min<long>(kMembraneUpdateEvery, n - done));
+    }
+}
+
+double Specimen::top_z() const { return world_.plane_wall_count() ? const_cast<World&>(world_).plane_wall(1).point.z() : 0.0; }
+double Specimen::bottom_z() const { return const_cast<World&>(world_).plane_wall(0).point.z(); }
+
+double Specimen::volume() const { return membrane_->enclosed_volume(world_, bottom_z(), top_z()); }
+
+double Specimen::top_stress() const {
+    const double area = volume() / height();
+    return const_cast<World&>(world_).plane_wall(1).normal_stress(area);
+}
+
+double Specimen::axial_stress() const {
+    const double area = volume() / height();
+    auto& w = const_cast<World&>(world_);
+    return 0.5 * (w.plane_wall(0).normal_stress(area) + w.plane_wall(1).normal_stress(area));
+}
+
+}  // namespace triax::protocol

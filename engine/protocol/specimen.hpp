@@ -1,0 +1,67 @@
+#pragma once
+// The triaxial specimen as a DEM model: soil spheres inside the bonded-particle membrane
+// between two rigid platens (plane walls), and the measurements on it. Axis z, centre at
+// the origin; groups: soil 0, membrane 1, platens 2. SI units, compression positive.
+#include <memory>
+#include <random>
+
+#include "engine/boundary/membrane.hpp"
+#include "engine/core/world.hpp"
+#include "engine/protocol/test_scheme.hpp"
+
+namespace triax::protocol {
+
+constexpr int kSoilGroup = 0;
+constexpr int kMembraneGroup = 1;
+constexpr int kPlatenGroup = 2;
+
+class Specimen {
+public:
+    // Generates the soil at the target porosity by radius expansion inside the (held)
+    // membrane: radii drawn from the gradation fill (1 - n) of the specimen volume, are
+    // placed at 60 % size without overlap (seeded), then grown to full size in steps with
+    // frictionless contacts, and relaxed to equilibrium. Deterministic for scheme.seed.
+    explicit Specimen(const TestScheme& scheme);
+
+    World& world() { return world_; }
+    const World& world() const { return world_; }
+    boundary::Membrane& membrane() { return *membrane_; }
+
+    // Switches to the test's contact laws (friction on; bond strength per moisture).
+    void install_test_laws();
+    // Installs soil-soil contact bonds on the current contacts (strength per contact
+    // = strength (Pa) x pi r_min^2 of the pair, scaled by the moisture relation).
+    long install_soil_bonds();
+
+    // Cycles n steps, refreshing the membrane follower forces every few steps.
+    void cycle(long n, double confining_pa);
+
+    double top_z() const;
+    double bottom_z() const;
+    double height() const { return top_z() - bottom_z(); }
+    double volume() const;                       // membrane-enclosed, m^3
+    double axial_stress() const;                 // mean of both platens, Pa
+    double top_stress() const;
+    double solid_volume() const { return solid_volume_; }
+    double porosity() const { return 1.0 - solid_volume_ / volume(); }
+    double mean_diameter() const { return mean_diameter_; }
+    double soil_density() const { return soil_density_; }
+    double soil_kn() const { return soil_kn_; }
+    int soil_count() const { return soil_count_; }
+
+    int top_wall() const { return 1; }
+    int bottom_wall() const { return 0; }
+
+private:
+    ContactLaw soil_law(bool friction_on) const;
+    void set_laws(bool friction_on);
+
+    TestScheme scheme_;
+    World world_;
+    std::unique_ptr<boundary::Membrane> membrane_;
+    double solid_volume_ = 0.0, mean_diameter_ = 0.0, soil_density_ = 0.0, soil_kn_ = 0.0;
+    double r_mean_ = 0.0;
+    int soil_count_ = 0;
+};
+
+}  // namespace triax::protocol

@@ -1,0 +1,332 @@
+#include "engine/protocol/triaxial_test.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "engine/creep/coordinate_translation.hpp"
+#include "engine/creep/rate_process_creep.hpp"
+#include "engine/creep/time_schedule.hpp"
+#include "engine/measure/measurement_sphere.hpp"
+#include "engine/protocol/specimen.hpp"
+#include "engine/protocol/stress_level.hpp"
+
+namespace triax::protocol {
+
+namespace {
+
+constexpr long kChunk = 50;                 // cycles between servo / record updates
+constexpr double kInertialTarget = 5.0e-4;  // quasi-static shear: I well under 1e-3
+constexpr double kStressTolerance = 0.01;   // relative, servo targets
+
+// The run's clock and the progress line: weights per phase of the whole run.
+class Progress {
+public:
+    Progress(RunObserver& o, int creep_stages) : obs_(o), start_(std::chrono::steady_clock::now()) {
+        const double creep_w = creep_stages > 0 ? 0.55 / creep_stages : 0.0;
+        weights_ = {0.1, 0.1, 0.25};
+        for (int k = 0; k < creep_stages; ++k) weights_.push_back(creep_w);
+    }
+    void report(const std::string& stage, int phase, double fraction) {
+        double done = 0.0;
+        for (int k = 0; k < phase && k < static_cast<int>(weights_.size()); ++k) done += weights_[k];
+        done += weights_[std::min<int>(phase, weights_.size() - 1)] * std::clamp(fraction, 0.0, 1.0);
+        double total = 0.0;
+        for (double w : weights_) total += w;
+        const double f = done / total;
+        const double el = elapsed();
+        obs_.progress(stage, f, f > 0.02 ? el * (1.0 - f) / f : -1.0);
+        if (obs_.cancel_requested()) throw Cancelled{};
+    }
+    double elapsed() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+    struct Cancelled {};
+
+private:
+    RunObserver& obs_;
+    std::chrono::steady_clock::time_point start_;
+    std::vector<double> weights_;
+};
+
+// Servo on a platen (PFC-style): wall speed proportional to the stress error, gain from
+// the skeleton stiffness so that one chunk closes a fraction of the error.
+double servo_velocity(double target, double measured, double area, double k_skeleton, double dt, double v_max) {
+    const double gain = 0.2 * area / (k_skeleton * dt * kChunk);
+    return std::clamp(gain * (target - measured), -v_max, v_max);
+}
+
+EnergySample energy_sample(const World& w, int phase, double time_s) {
+    const auto& e = w.energy();
+    EnergySample s;
+    s.phase_index = phase;
+    s.step = w.step();
+    s.time_s = time_s;
+    s.strain_j = e.strain;
+    s.slip_j = e.slip;
+    s.damping_j = e.damping;
+    s.kinetic_j = e.kinetic;
+    s.bond_j = e.bond_strain;
+    s.boundary_work_j = e.boundary_work;
+    s.creep_j = e.creep;
+    return s;
+}
+
+}  // namespace
+
+TestResult run_triaxial_test(const TestScheme& scheme) {
+    RunObserver none;
+    return run_triaxial_test(scheme, none);
+}
+
+TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase last) {
+    scheme.validate();
+    TestResult res;
+    res.scheme_name = scheme.name;
+    const int n_stages = last == Phase::Creep ? static_cast<int>(scheme.loading.stress_levels.size()) : 0;
+    Progress prog(obs, n_stages);
+    const double sigma3 = scheme.loading.confining_pressure_pa;
+    res.sigma3_pa = sigma3;
+    try {
+        // ---- generation --------------------------------------------------------
+        obs.stage_changed("generation", 0, 0.0, 0.0);
+        prog.report("generation", 0, 0.0);
+        Specimen sp(scheme);
+        World& w = sp.world();
+        res.particle_count = sp.soil_count();
+        res.membrane_particle_count = sp.membrane().count();
+        res.initial_porosity = sp.porosity();
+        sp.install_test_laws();
+        sp.membrane().set_fixed(w, false);
+        const double dt = w.time_step();
+        const double k_skel = sp.soil_kn() * 8.0;  // about 8 contacts under a grain
+        const double v_max = 0.05 * sp.height() / (2000.0 * dt);
+
+        // ---- isotropic consolidation --------------------------------------------
+        obs.stage_changed("consolidation", 0, 0.0, 0.0);
+        w.energy().reset_accumulated();
+        const long consolidation_start = w.step();
+        double ratio = 1.0;
+        const long max_consolidation = 400000;
+        for (long n = 0; n < max_consolidation; n += kChunk) {
+            const double area = sp.volume() / sp.height();
+            auto& top = w.plane_wall(sp.top_wall());
+            auto& bot = w.plane_wall(sp.bottom_wall());
+            top.velocity = Vec3(0, 0, -servo_velocity(sigma3, top.normal_stress(area), area, k_skel, dt, v_max));
+            bot.velocity = Vec3(0, 0, servo_velocity(sigma3, bot.normal_stress(area), area, k_skel, dt, v_max));
+            sp.cycle(kChunk, sigma3);
+            ratio = w.unbalanced_force_ratio();
+            const bool stress_ok = std::abs(sp.axial_stress() - sigma3) < kStressTolerance * sigma3;
+            if (n > 2000 && stress_ok && ratio < scheme.loading.consolidation_tolerance) break;
+            if (n % 2000 == 0) prog.report("consolidation", 0, std::min(1.0, 0.5 * n / 20000.0));
+        }
+        w.plane_wall(sp.top_wall()).velocity.setZero();
+        w.plane_wall(sp.bottom_wall()).velocity.setZero();
+        res.consolidation.unbalanced_force_ratio = ratio;
+        res.consolidation.porosity = sp.porosity();
+        res.consolidation.steps = w.step() - consolidation_start;
+        res.consolidation.achieved_sigma3_pa = sp.axial_stress();
+        obs.energy_sample(energy_sample(w, 0, 0.0));
+        res.energies.push_back(energy_sample(w, 0, 0.0));
+        // Bonds (suction/cementation, moisture dependent) form on the consolidated fabric.
+        sp.install_soil_bonds();
+
+        // ---- strain-controlled shear ------------------------------------------
+        obs.stage_changed("shear", 0, 0.0, 0.0);
+        const double h0 = sp.height(), v0 = sp.volume();
+        const double p0 = std::max(sigma3, 1.0);
+        const double rate = kInertialTarget * std::sqrt(p0 / sp.soil_density()) / sp.mean_diameter();
+        const double seating = scheme.effects.seating_error ? scheme.effects.seating_displacement_m : 0.0;
+        w.plane_wall(sp.top_wall()).velocity = Vec3(0, 0, -rate * h0);
+        const double eps_max = scheme.loading.max_axial_strain;
+        const long record_every = std::max<long>(kChunk, static_cast<long>(0.002 / (rate * dt)) / kChunk * kChunk);
+        long since_record = 0;
+        double q_peak = 0.0, eps_peak = 0.0;
+        while (true) {
+            sp.cycle(kChunk, sigma3);
+            since_record += kChunk;
+            const double eps_a = (h0 - sp.height()) / h0;
+            if (since_record >= record_every || eps_a >= eps_max) {
+                since_record = 0;
+                ShearPoint pt;
+                // Seating (bedding) error: the lab's displacement reading includes the
+                // closing of the platen-specimen gap before the specimen carries load.
+                pt.axial_strain = eps_a + seating / h0;
+                const double sigma1 = sp.top_stress();
+                double q = sigma1 - sigma3;
+                if (scheme.effects.membrane_compliance) {
+                    // Uncorrected hoop-tension of a real membrane adds to the measured q
+                    // (ASTM D7181 form): dq = 4 E_m t_m eps_a / D.
+                    q += 4.0 * scheme.effects.membrane_modulus_pa * scheme.effects.membrane_thickness_m * eps_a /
+                         scheme.specimen.diameter_m;
+                }
+                pt.q_pa = q;
+                pt.sigma1_pa = sigma3 + q;
+                pt.sigma3_pa = sigma3;
+                pt.p_pa = sigma3 + q / 3.0;
+                pt.volumetric_strain = (v0 - sp.volume()) / v0;
+                pt.inertial_number = rate * sp.mean_diameter() * std::sqrt(sp.soil_density() / std::max(pt.p_pa, 1.0));
+                res.max_inertial_number = std::max(res.max_inertial_number, pt.inertial_number);
+                res.shear.push_back(pt);
+                obs.shear_point(pt);
+                const auto es = energy_sample(w, 1, 0.0);
+                res.energies.push_back(es);
+                obs.energy_sample(es);
+                if (q > q_peak) { q_peak = q; eps_peak = pt.axial_strain; }
+                prog.report("shear", 1, eps_a / eps_max);
+            }
+            if (eps_a >= eps_max) break;
+            // Failure: a clear peak, then a 20 % drop (strain softening) ends the shear.
+            if (q_peak > 0.0 && !res.shear.empty() && res.shear.back().q_pa < 0.8 * q_peak && eps_a > 0.02) break;
+        }
+        w.plane_wall(sp.top_wall()).velocity.setZero();
+        res.q_failure_pa = q_peak;
+        res.axial_strain_at_failure = eps_peak;
+        if (last == Phase::Shear || last == Phase::Consolidation || n_stages == 0) {
+            res.total_steps = w.step();
+            res.wall_time_s = prog.elapsed();
+            obs.stage_changed("done", 0, 0.0, 0.0);
+            return res;
+        }
+        // The creep test proper runs on the same specimen after unloading to sigma3
+        // (the paper's graded loading starts from the isotropic state).
+        auto hold_axial = [&](double sigma1_target, long min_cycles, long max_cycles) {
+            long n = 0;
+            for (; n < max_cycles; n += kChunk) {
+                const double area = sp.volume() / sp.height();
+                auto& top = w.plane_wall(sp.top_wall());
+                top.velocity = Vec3(0, 0, -servo_velocity(sigma1_target, top.normal_stress(area), area, k_skel, dt, v_max));
+                sp.cycle(kChunk, sigma3);
+                if (n >= min_cycles && std::abs(sp.top_stress() - sigma1_target) < kStressTolerance * sigma1_target &&
+                    w.unbalanced_force_ratio() < scheme.loading.consolidation_tolerance * 5.0)
+                    break;
+            }
+            w.plane_wall(sp.top_wall()).velocity.setZero();
+            return n;
+        };
+        hold_axial(sigma3, 1000, 100000);
+
+        // ---- multi-stage creep in physical time --------------------------------
+        creep::RateProcessParams cp;
+        const double vs = scheme.effects.contact_creep_viscosity ? scheme.effects.viscosity_scale : 0.0;
+        cp.slip_rate_a_m_s = scheme.creep.slip_rate_a_m_s * vs;
+        cp.slip_beta = scheme.creep.slip_beta;
+        cp.slip_hardening_length_m = scheme.creep.slip_hardening_length_m;
+        cp.damage_rate_b1_per_s = scheme.creep.damage_rate_b1_per_s * vs *
+                                  (scheme.effects.grain_breakage ? scheme.effects.breakage_damage_scale : 1.0);
+        cp.damage_b2 = scheme.creep.damage_b2;
+        cp.damage_threshold = scheme.creep.damage_threshold;
+        cp.soil_group = kSoilGroup;
+        creep::RateProcessCreep creep_law(cp);
+
+        const double hc = sp.height();  // reference height of the creep test
+        const double z_top0 = sp.top_z();
+        const double H = scheme.specimen.height_m;
+        // Measurement spheres on the axis at z = +0.4 H, 0, -0.4 H (+-80 mm for 200 mm),
+        // radius 0.15 D (15 mm): the paper's 5 mm holds no grain of a coarse soil; 15 mm
+        // holds some tens of grains yet stays clear of platens and membrane.
+        res.measurement_sphere_radius_m = 0.15 * scheme.specimen.diameter_m;
+        std::vector<MeasurementSphere> spheres;
+        for (double z : {0.4 * H, 0.0, -0.4 * H}) spheres.emplace_back(Vec3(0, 0, z), res.measurement_sphere_radius_m);
+        for (auto& m : spheres) m.set_reference(w);
+        auto sample_spheres = [&](double t) {
+            for (int s = 0; s < 3; ++s) {
+                const auto r = spheres[s].measure(w);
+                MeasurementSample ms;
+                ms.sphere = s + 1;
+                ms.step = w.step();
+                ms.time_s = t;
+                ms.z_displacement_m = r.mean_displacement.z();
+                ms.rotation_rate_x_rad_s = r.mean_angular_velocity.x();
+                ms.rotation_rate_y_rad_s = r.mean_angular_velocity.y();
+                ms.rotation_rate_z_rad_s = r.mean_angular_velocity.z();
+                ms.porosity = r.porosity;
+                ms.coordination = r.coordination;
+                res.measurements.push_back(ms);
+                obs.measurement_sample(ms);
+            }
+        };
+        double t_total = 0.0;
+        for (int k = 0; k < n_stages; ++k) {
+            const double S = scheme.loading.stress_levels[k];
+            const double q_target = scheme.loading.stress_level_definition == StressLevelDefinition::PaperEq1
+                                        ? deviator_for_stress_level_eq1(S, sigma3, scheme.loading.cohesion_pa,
+                                                                        scheme.loading.friction_angle_deg)
+                                        : S * q_peak;
+            const std::string stage = "creep-" + std::to_string(k + 1);
+            obs.stage_changed(stage, k + 1, S, q_target);
+            CreepStageResult st;
+            st.stage = k + 1;
+            st.q_pa = q_target;
+            st.stress_level = q_peak > 0.0 ? q_target / q_peak : 0.0;
+            st.stress_level_eq1 = stress_level_eq1(q_target, sigma3, scheme.loading.cohesion_pa, scheme.loading.friction_angle_deg);
+            st.duration_s = scheme.loading.stage_durations_s[k];
+            st.start_time_s = t_total;
+            const double d_before = z_top0 - sp.top_z();
+            // Loading step: the instantaneous response (no physical time elapses).
+            hold_axial(sigma3 + q_target, 500, 200000);
+            auto record = [&](double t_stage) {
+                const double d = z_top0 - sp.top_z();
+                CreepPoint cpnt{t_total + t_stage, d, d / hc};
+                st.raw.push_back(cpnt);
+                obs.creep_point(k + 1, cpnt);
+                const auto es = energy_sample(w, 2 + k, t_total + t_stage);
+                res.energies.push_back(es);
+                obs.energy_sample(es);
+            };
+            record(0.0);
+            sample_spheres(t_total);
+            const auto dts = creep::creep_time_increments(st.duration_s, scheme.creep.first_increment_s,
+                                                          scheme.creep.increment_growth, scheme.creep.max_increment_s);
+            double t = 0.0;
+            bool failed = false;
+            for (std::size_t n = 0; n < dts.size(); ++n) {
+                creep_law.advance(w, dts[n]);
+                hold_axial(sigma3 + q_target, 200, 20000);
+                t += dts[n];
+                record(t);
+                if (n % 4 == 3 || n + 1 == dts.size()) sample_spheres(t_total + t);
+                prog.report(stage, 2 + k, t / st.duration_s);
+                // Creep rupture: the platen runs away beyond the shear test's range.
+                if ((z_top0 - sp.top_z()) / hc > std::max(0.25, eps_max + 0.05)) { failed = true; break; }
+            }
+            // Per-stage curves and summary numbers.
+            std::vector<creep::TimeDeformation> stage_raw;
+            for (const auto& p : st.raw) stage_raw.push_back({p.time_s, p.axial_deformation_m});
+            std::vector<creep::TimeDeformation> tr =
+                creep::translate_stage(stage_raw, st.start_time_s, st.start_time_s + t, d_before);
+            for (const auto& p : tr) st.translated.push_back({p.time, p.deformation, p.deformation / hc});
+            st.instant_deformation_m = st.translated.front().axial_deformation_m;
+            st.final_deformation_m = st.translated.back().axial_deformation_m;
+            const double creep_part = st.final_deformation_m - st.instant_deformation_m;
+            st.elastic_share = st.final_deformation_m > 0.0 ? st.instant_deformation_m / st.final_deformation_m : 1.0;
+            double d30 = st.final_deformation_m;
+            for (const auto& p : st.translated)
+                if (p.time_s <= 1800.0) d30 = p.axial_deformation_m;
+            st.share_in_first_30min = creep_part > 0.0 ? std::clamp((d30 - st.instant_deformation_m) / creep_part, 0.0, 1.0) : 1.0;
+            // Late behaviour: creep in the last fifth vs the fifth before it.
+            auto at = [&](double time) {
+                double d = st.translated.front().axial_deformation_m;
+                for (const auto& p : st.translated)
+                    if (p.time_s <= time) d = p.axial_deformation_m;
+                return d;
+            };
+            const double T = t;
+            const double late = at(T) - at(0.8 * T), before = at(0.8 * T) - at(0.6 * T);
+            st.accelerating = failed || (late > 1.05 * before && late > 0.02 * std::max(creep_part, 1e-12));
+            st.converged = !st.accelerating && (creep_part <= 0.0 || late < 0.1 * creep_part);
+            res.creep_stages.push_back(st);
+            t_total += t;
+            if (failed) break;
+        }
+        res.total_steps = w.step();
+    } catch (const Progress::Cancelled&) {
+        res.cancelled = true;
+        res.converged = false;
+    }
+    res.wall_time_s = prog.elapsed();
+    obs.stage_changed("done", 0, 0.0, 0.0);
+    return res;
+}
+
+}  // namespace triax::protocol
