@@ -5,18 +5,13 @@
 #include "server/service.hpp"
 
 #include <csignal>
+#include <pthread.h>
+#include <thread>
 #include <cstdlib>
 #include <iostream>
 #include <string>
 
 namespace {
-
-triax::service::Service* g_service = nullptr;
-
-void on_signal(int) {
-    // httplib::Server::stop only flips flags and shuts the listening socket down.
-    if (g_service) g_service->http.stop();
-}
 
 void usage() {
     std::cout << "usage: triaxd [--host H] [--port P] [--data-dir DIR] [--web-dir DIR] [--schema-dir DIR]\n"
@@ -67,17 +62,26 @@ int main(int argc, char** argv) {
         usage();
         return 2;
     }
+    // SIGINT/SIGTERM are blocked in every thread and taken by one waiter thread, so the
+    // stop runs as ordinary code rather than inside a signal handler.
+    sigset_t stop_signals;
+    sigemptyset(&stop_signals);
+    sigaddset(&stop_signals, SIGINT);
+    sigaddset(&stop_signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
     try {
         triax::service::Service service(cfg, triax::service::make_engine_executor());
-        g_service = &service;
-        std::signal(SIGINT, on_signal);
-        std::signal(SIGTERM, on_signal);
+        std::thread waiter([&] {
+            int sig = 0;
+            sigwait(&stop_signals, &sig);
+            if (sig != 0) service.http.stop();
+        });
+        waiter.detach();
         service.bind();
         if (service.interrupted_at_start > 0)
             std::cerr << "triaxd: " << service.interrupted_at_start << " job(s) of the previous process marked interrupted\n";
         std::cout << "triaxd listening on " << service.url() << std::endl;
         const bool ok = service.listen();
-        g_service = nullptr;
         service.stop();
         return ok ? 0 : 1;
     } catch (const std::exception& e) {
