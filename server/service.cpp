@@ -126,6 +126,7 @@ std::string Service::url() const { return "http://" + config.host + ":" + std::t
 void Service::stop() {
     if (stopped_) return;
     stopped_ = true;
+    shutting_down = true;
     runs.begin_shutdown();
     {
         std::lock_guard lock(diagnosis_mutex);

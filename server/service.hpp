@@ -12,7 +12,10 @@
 
 #include <httplib.h>
 
+#include <atomic>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
@@ -73,6 +76,7 @@ public:
     std::vector<std::pair<std::string, std::string>> routes;
 
     // Diagnosis jobs (diagnosis_routes.cpp): cancel flags shared with the workers.
+    std::atomic<bool> shutting_down{false};  // set by stop(): cancelled jobs become "interrupted"
     std::mutex diagnosis_mutex;
     std::map<std::int64_t, std::shared_ptr<std::atomic<bool>>> diagnosis_cancel;
 

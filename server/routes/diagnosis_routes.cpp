@@ -92,7 +92,9 @@ void execute_diagnosis(Service& s, std::int64_t id, std::shared_ptr<std::atomic<
         const json doc = io::diagnosis_report_to_json(report);
         finish_diagnosis(s, id, "done", "", &doc);
     } catch (const diagnose::DiagnosisCancelled&) {
-        finish_diagnosis(s, id, cancel->load() ? "cancelled" : "interrupted", "diagnosis cancelled", nullptr);
+        finish_diagnosis(s, id, s.shutting_down ? "interrupted" : "cancelled",
+                         s.shutting_down ? "the service stopped during the diagnosis; start it again" : "cancelled by request",
+                         nullptr);
     } catch (const std::exception& e) {
         finish_diagnosis(s, id, "failed", e.what(), nullptr);
     }
@@ -146,7 +148,15 @@ void register_diagnosis_routes(Service& s) {
             });
         }
         try {
-            io::diagnose_options_from_json(body);
+            const auto opts = io::diagnose_options_from_json(body);
+            // A diagnosis occupies one worker but may run `concurrency` DEM runs of
+            // `threads_per_run` threads each: keep that within the machine.
+            const int threads = opts.concurrency * opts.threads_per_run;
+            if (threads > s.config.max_threads_per_run)
+                throw unprocessable("concurrency x threads_per_run = " + std::to_string(threads) + " exceeds " +
+                                    std::to_string(s.config.max_threads_per_run) + " threads")
+                    .at_field("/concurrency")
+                    .with_limit("concurrency * threads_per_run <= " + std::to_string(s.config.max_threads_per_run));
         } catch (const io::DiagnosisRequestError& e) {
             throw unprocessable(e.what()).at_field(e.field);
         }

@@ -122,6 +122,26 @@ TEST_CASE("restart: everything stored is found again; unfinished runs become int
     std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("a full disk refuses new data with 507 and keeps what was stored", "[server][store]") {
+    ScriptControl control;
+    TestServer srv(scripted_executor(control));
+    const auto run = finished_run(srv);
+    const long long ds = srv.post("/datasets?format=csv", offset_dataset_csv(), "text/csv").body["id"];
+    // Cap the database at its current size: the next write fails as on a full disk.
+    srv.service().db.with([](triax::service::Database& db) {
+        auto st = db.prepare("PRAGMA page_count");
+        st.step();
+        db.exec("PRAGMA max_page_count = " + std::to_string(st.int64(0)));
+    });
+    std::string big = offset_dataset_csv();
+    for (int i = 0; i < 200; ++i) big += "shear,0,100,," + std::to_string(20.0 + i) + ",,100\n";
+    const auto full = srv.post("/datasets?format=csv", big, "text/csv");
+    check_problem(full, 507);
+    CHECK(srv.get("/datasets/" + std::to_string(ds)).status == 200);
+    CHECK(srv.get("/runs/" + std::to_string(run) + "/results/stress-strain").body["rows"].size() == 200);
+    CHECK(srv.get("/datasets").body["datasets"].size() == 1);
+}
+
 TEST_CASE("error path of every endpoint answers problem details", "[server][errors]") {
     ScriptControl control;
     control.hold = true;
@@ -192,6 +212,9 @@ TEST_CASE("error path of every endpoint answers problem details", "[server][erro
     check_problem(r, 422);
     CHECK(r.body["field"] == "/budget_runs");
     check_problem(srv.post("/datasets/" + std::to_string(ds) + "/diagnose", json{{"budget_runs", 8}}), 422);
+    r = srv.post("/datasets/" + std::to_string(ds) + "/diagnose", json{{"scheme_id", 1}, {"concurrency", 64}, {"threads_per_run", 64}});
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/concurrency");
     check_problem(srv.get("/diagnoses/999"), 404);
     check_problem(srv.post("/diagnoses/999/cancel", std::string()), 404);
     check_problem(srv.get("/diagnoses/999/events"), 404);
