@@ -8,7 +8,16 @@ EventLog::EventLog(Database& db, std::string table, std::string owner)
     : db_(db),
       insert_sql_("INSERT INTO " + table + "(" + owner + ", seq, type, data) VALUES (?, ?, ?, ?)"),
       select_sql_("SELECT seq, type, data FROM " + table + " WHERE " + owner + " = ? AND seq > ? ORDER BY seq LIMIT ?"),
-      max_sql_("SELECT COALESCE(MAX(seq), 0) FROM " + table + " WHERE " + owner + " = ?") {}
+      max_sql_("SELECT COALESCE(MAX(seq), 0) FROM " + table + " WHERE " + owner + " = ?"),
+      last_type_sql_("SELECT type FROM " + table + " WHERE " + owner + " = ? ORDER BY seq DESC LIMIT 1") {}
+
+bool EventLog::ended(std::int64_t owner) const {
+    return db_.with([&](Database& db) {
+        auto st = db.prepare(last_type_sql_);
+        st.bind_all(owner);
+        return st.step() && is_terminal_event(st.text(0));
+    });
+}
 
 std::int64_t EventLog::last_seq_locked(Database& db, std::int64_t owner) {
     auto it = last_seq_.find(owner);

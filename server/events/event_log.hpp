@@ -39,6 +39,8 @@ public:
     std::int64_t append_in(Database& tx, std::int64_t owner, const std::string& type, const nlohmann::json& data);
     void notify();
 
+    // True when the owner's last event is terminal: nothing more will come.
+    bool ended(std::int64_t owner) const;
     std::vector<StoredEvent> since(std::int64_t owner, std::int64_t after_seq, int limit) const;
     // Waits until an event newer than after_seq may exist, the timeout passes, or shutdown.
     void wait(std::int64_t owner, std::int64_t after_seq, std::chrono::milliseconds timeout);
@@ -48,7 +50,7 @@ public:
 private:
     std::int64_t last_seq_locked(Database& db, std::int64_t owner);
     Database& db_;
-    std::string insert_sql_, select_sql_, max_sql_;
+    std::string insert_sql_, select_sql_, max_sql_, last_type_sql_;
     mutable std::mutex mutex_;
     std::condition_variable cv_;
     std::map<std::int64_t, std::int64_t> last_seq_;  // cache of MAX(seq) per owner

@@ -44,6 +44,12 @@ void serve_event_stream(const httplib::Request& req, httplib::Response& res, Eve
                 *quiet_since = std::chrono::steady_clock::now();
                 return true;
             }
+            // A client reconnecting after the terminal event (EventSource does so by
+            // itself) gets an empty, closed stream instead of an endless wait.
+            if (log.ended(owner)) {
+                sink.done();
+                return true;
+            }
             log.wait(owner, last, std::chrono::milliseconds(500));
             if (!sink.is_writable()) return false;
             // A comment line every 15 s keeps proxies from closing an idle stream.

@@ -81,6 +81,8 @@ TEST_CASE("Last-Event-ID replays only what was missed; late clients get the whol
     const auto by_query = srv.events("/runs/" + std::to_string(id) + "/events?last_event_id=" + std::to_string(all.size() - 1));
     REQUIRE(by_query.size() == 1);
     CHECK(by_query[0].type == "done");
+    // Reconnecting after the end (as EventSource does) gives an empty stream that closes.
+    CHECK(srv.events("/runs/" + std::to_string(id) + "/events", std::to_string(all.size())).empty());
 }
 
 TEST_CASE("a client connected while the run is held receives the events as they happen", "[server][e2e]") {
