@@ -1,0 +1,189 @@
+// Engine benchmark (never run by CI). Builds a dense packing of N spheres (radius
+// ratio 3, like a packable version of the paper's gradation) by radius expansion in a
+// rigid box, servo-compresses it isotropically to 100 kPa (frictionless, which gives
+// the dense state), switches to mu = 0.4, then times 5,000 steps at 1 and 2 threads
+// (median of several runs) and the time per step at N = 2k, 8k, 32k.
+//
+// Usage: engine_bench [N=10000] [steps=5000] [repeats=3]
+#include "engine/core/world.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <vector>
+
+using namespace triax;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDensity = 2650.0;  // kg/m^3
+constexpr double kRmin = 1.0e-3, kRmax = 3.0e-3;  // m
+constexpr double kKn = 1e6, kKs = 1e6;              // N/m
+constexpr double kTargetSolidFraction = 0.63;       // expansion target (porosity ~0.37 before servo)
+
+struct Rng {
+    std::uint64_t s;
+    explicit Rng(std::uint64_t seed) : s(seed * 2654435761ULL + 1) {}
+    double uniform() {
+        s ^= s << 13; s ^= s >> 7; s ^= s << 17;
+        return static_cast<double>(s >> 11) * (1.0 / 9007199254740992.0);
+    }
+};
+
+struct Box {
+    double lo[3], hi[3];
+};
+
+double solid_volume(const World& w) {
+    double v = 0.0;
+    for (double r : w.particles().radius) v += 4.0 / 3.0 * kPi * r * r * r;
+    return v;
+}
+
+double box_volume(World& w) {
+    // walls 0..5: -x, +x, -y, +y, -z, +z
+    return (w.plane_wall(1).point.x() - w.plane_wall(0).point.x()) *
+           (w.plane_wall(3).point.y() - w.plane_wall(2).point.y()) *
+           (w.plane_wall(5).point.z() - w.plane_wall(4).point.z());
+}
+
+void set_radius(World& w, std::size_t p, double r) {
+    auto& pa = w.particles();
+    pa.radius[p] = r;
+    pa.mass[p] = kDensity * 4.0 / 3.0 * kPi * r * r * r;
+    pa.inertia[p] = 0.4 * pa.mass[p] * r * r;
+}
+
+// Mean normal stress on the three pairs of walls (Pa, compression positive).
+Vec3 wall_stress(World& w) {
+    const double lx = w.plane_wall(1).point.x() - w.plane_wall(0).point.x();
+    const double ly = w.plane_wall(3).point.y() - w.plane_wall(2).point.y();
+    const double lz = w.plane_wall(5).point.z() - w.plane_wall(4).point.z();
+    const double sx = 0.5 * (w.plane_wall(0).normal_stress(ly * lz) + w.plane_wall(1).normal_stress(ly * lz));
+    const double sy = 0.5 * (w.plane_wall(2).normal_stress(lx * lz) + w.plane_wall(3).normal_stress(lx * lz));
+    const double sz = 0.5 * (w.plane_wall(4).normal_stress(lx * ly) + w.plane_wall(5).normal_stress(lx * ly));
+    return Vec3(sx, sy, sz);
+}
+
+// Lattice of spheres with final radii scaled down, then radius expansion to a solid
+// fraction of 0.63, frictionless.
+World loose_packing(int n, int threads) {
+    World w;
+    w.set_threads(threads);
+    ContactLaw law;
+    law.kn = kKn; law.ks = kKs; law.friction = 0.0;
+    w.set_default_contact_law(law);
+    const int side = static_cast<int>(std::ceil(std::cbrt(static_cast<double>(n))));
+    const double a = 2.02 * kRmax;
+    const double L = side * a;
+    w.add_plane_wall(Vec3(0, 0, 0), Vec3::UnitX());
+    w.add_plane_wall(Vec3(L, 0, 0), -Vec3::UnitX());
+    w.add_plane_wall(Vec3(0, 0, 0), Vec3::UnitY());
+    w.add_plane_wall(Vec3(0, L, 0), -Vec3::UnitY());
+    w.add_plane_wall(Vec3(0, 0, 0), Vec3::UnitZ());
+    w.add_plane_wall(Vec3(0, 0, L), -Vec3::UnitZ());
+    Rng rng(12345);
+    std::vector<double> target;
+    for (int k = 0; k < n; ++k) {
+        const int x = k % side, y = (k / side) % side, z = k / (side * side);
+        const double r = kRmin + (kRmax - kRmin) * rng.uniform();
+        target.push_back(r);
+        w.add_sphere(Vec3((x + 0.5) * a, (y + 0.5) * a, (z + 0.5) * a), r, kDensity);
+    }
+    w.set_skin(0.2 * kRmin);
+    w.set_time_step(0.2 * std::sqrt(kDensity * 4.0 / 3.0 * kPi * std::pow(kRmin, 3) / kKn));
+    const double v_box = box_volume(w);
+    for (int round = 0; round < 2000; ++round) {
+        const double phi = solid_volume(w) / v_box;
+        if (phi >= kTargetSolidFraction) break;
+        const double f = std::min(1.005, std::cbrt(kTargetSolidFraction / phi));
+        for (std::size_t p = 0; p < w.particle_count(); ++p) set_radius(w, p, w.particles().radius[p] * f);
+        w.invalidate_neighbors();
+        w.cycle(50);
+    }
+    return w;
+}
+
+// Servo the six walls to an isotropic stress (Pa).
+void servo_to(World& w, double target, int max_rounds) {
+    const double gain = 1e-6;  // m/s per Pa
+    for (int round = 0; round < max_rounds; ++round) {
+        const Vec3 s = wall_stress(w);
+        for (int axis = 0; axis < 3; ++axis) {
+            const double v = std::clamp(gain * (target - s[axis]), -0.05, 0.05);
+            Vec3 dir = Vec3::Zero();
+            dir[axis] = v;
+            w.plane_wall(2 * axis).velocity = dir;
+            w.plane_wall(2 * axis + 1).velocity = -dir;
+        }
+        w.cycle(50);
+        const Vec3 now = wall_stress(w);
+        if ((now.array() - target).abs().maxCoeff() < 0.01 * target && w.unbalanced_force_ratio() < 1e-3) break;
+    }
+    for (int k = 0; k < 6; ++k) w.plane_wall(k).velocity.setZero();
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+double seconds_for(World w, int threads, long steps) {
+    w.set_threads(threads);
+    w.cycle(10);  // warm-up: thread pool, first rebuild
+    const auto t0 = std::chrono::steady_clock::now();
+    w.cycle(steps);
+    const auto t1 = std::chrono::steady_clock::now();
+    return std::chrono::duration<double>(t1 - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const int n = argc > 1 ? std::atoi(argv[1]) : 10000;
+    const long steps = argc > 2 ? std::atol(argv[2]) : 5000;
+    const int repeats = argc > 3 ? std::atoi(argv[3]) : 3;
+    try {
+        const auto t_prep = std::chrono::steady_clock::now();
+        World w = loose_packing(n, 1);
+        servo_to(w, 100e3, 600);
+        ContactLaw law;
+        law.kn = kKn; law.ks = kKs; law.friction = 0.4;
+        w.set_default_contact_law(law);
+        w.set_time_step(w.critical_time_step(0.5));
+        w.cycle(1000);
+        const double porosity = 1.0 - solid_volume(w) / box_volume(w);
+        const Vec3 s = wall_stress(w);
+        std::printf("packing: N=%d, radius %.1f-%.1f mm, porosity %.3f, wall stress %.1f/%.1f/%.1f kPa, "
+                    "contacts %ld, coordination %.2f, dt %.3g s, prep %.0f s\n",
+                    n, kRmin * 1e3, kRmax * 1e3, porosity, s.x() / 1e3, s.y() / 1e3, s.z() / 1e3,
+                    w.active_contact_count(), 2.0 * w.active_contact_count() / n, w.time_step(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t_prep).count());
+        for (int threads : {1, 2}) {
+            std::vector<double> runs;
+            for (int r = 0; r < repeats; ++r) runs.push_back(seconds_for(w, threads, steps));
+            const double t = median(runs);
+            std::printf("threads=%d: %ld steps in %.3f s (median of %d) -> %.3g particle-steps/s, %.3g s/step\n",
+                        threads, steps, t, repeats, n * static_cast<double>(steps) / t, t / steps);
+        }
+        // Scaling: quick packings (expansion only, frictionless) timed for a few hundred steps.
+        for (int size : {2000, 8000, 32000}) {
+            World q = loose_packing(size, 1);
+            law.friction = 0.4;
+            q.set_default_contact_law(law);
+            std::vector<double> runs;
+            for (int r = 0; r < repeats; ++r) runs.push_back(seconds_for(q, 2, 500));
+            const double t = median(runs);
+            std::printf("scaling: N=%d, 2 threads: %.3g s/step, %.3g us per particle-step\n", size, t / 500,
+                        t / 500 / size * 1e6);
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "engine_bench: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
