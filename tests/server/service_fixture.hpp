@@ -166,7 +166,7 @@ public:
         return out;
     }
 
-    json wait_status(long long run_id, const std::string& status, int timeout_ms = 20000) const {
+    json wait_status(long long run_id, const std::string& status, int timeout_ms = 60000) const {
         json last;
         for (int i = 0; i < timeout_ms / 5; ++i) {
             last = get("/runs/" + std::to_string(run_id)).body;

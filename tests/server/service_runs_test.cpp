@@ -93,8 +93,8 @@ TEST_CASE("a client connected while the run is held receives the events as they 
     const long long id = srv.post("/runs", json{{"scheme", json::object()}}).body["id"];
     std::vector<TestServer::Event> got;
     std::thread reader([&] { got = srv.events("/runs/" + std::to_string(id) + "/events"); });
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    CHECK(srv.get("/runs/" + std::to_string(id)).body["status"] == "running");
+    srv.wait_status(id, "running");
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the reader is now waiting on the live stream
     control.hold = false;
     reader.join();
     REQUIRE_FALSE(got.empty());
@@ -106,7 +106,7 @@ TEST_CASE("queue limit answers 429; cancel queued and running runs; re-run", "[s
     control.hold = true;
     TestServer srv(scripted_executor(control), {}, 1, 1);
     const long long a = srv.post("/runs", json{{"scheme", json::object()}}).body["id"];
-    for (int i = 0; i < 2000 && control.started == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    for (int i = 0; i < 20000 && control.started == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     srv.wait_status(a, "running");
     const auto b = srv.post("/runs", json{{"scheme_id", 1}});
     REQUIRE(b.status == 202);

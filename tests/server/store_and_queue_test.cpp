@@ -135,14 +135,14 @@ TEST_CASE("job queue: bounded, FIFO, withdraw, shutdown", "[server][jobs]") {
         ++ran;
     }));
     // Wait until the worker holds "a" so the queue has room for exactly two.
-    for (int i = 0; i < 2000 && q.waiting() > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    for (int i = 0; i < 20000 && q.waiting() > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     REQUIRE(q.try_submit("b", [&] { std::lock_guard l(m); order.push_back(1); ++ran; }));
     REQUIRE(q.try_submit("c", [&] { std::lock_guard l(m); order.push_back(2); ++ran; }));
     CHECK_FALSE(q.try_submit("d", [] {}));  // full -> the service answers 429
     CHECK(q.withdraw("b"));
     CHECK_FALSE(q.withdraw("b"));
     release = true;
-    for (int i = 0; i < 5000 && ran < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    for (int i = 0; i < 20000 && ran < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     CHECK(ran == 2);
     CHECK(order == std::vector<int>{0, 2});
     q.shutdown();
