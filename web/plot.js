@@ -35,7 +35,8 @@ export function logTicks(lo, hi) {
 function formatTick(v) {
   if (v === 0) return '0';
   const a = Math.abs(v);
-  if (a >= 1e5 || a < 1e-3) return v.toExponential(0);
+  // Shortest exponent form that still tells neighbouring ticks apart (1.25e+5, not 1e+5).
+  if (a >= 1e5 || a < 1e-3) return Number(v.toPrecision(4)).toExponential();
   return Number(v.toPrecision(6)).toString();
 }
 

@@ -117,7 +117,10 @@ export class SchemeForm {
     const { base, unit } = splitUnit(key);
     const id = 'f' + pointer.replace(/[^A-Za-z0-9]+/g, '_');
     const error = el('span', { class: 'field-error', role: 'alert' });
-    const limits = el('span', { class: 'limits' }, [limitsText(s), unit].filter(Boolean).join(' '));
+    // A list of numbers states the limits of each entry.
+    const itemLimits = Array.isArray(value) ? limitsText(resolveRef(s.items || {}, this.schema)) : '';
+    const limitText = [limitsText(s), itemLimits && `each ${itemLimits}`, Array.isArray(value) ? 'comma-separated' : '', unit].filter(Boolean).join(' ');
+    const limits = el('span', { class: 'limits' }, limitText);
     let input;
     const type = Array.isArray(s.type) ? s.type.find(t => t !== 'null') : s.type;
     if (Array.isArray(s.enum)) {
