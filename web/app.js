@@ -19,7 +19,6 @@ async function showNewRun() {
   const presetBox = el('div', { class: 'presets', id: 'presets' });
   const formBox = el('div', { id: 'scheme-form' });
   const formError = el('div', { class: 'field-error', id: 'form-error', role: 'alert' });
-  const threads = el('input', { type: 'number', id: 'run-threads', value: 1, min: 1, max: 64, step: 1 });
   const submit = el('button', { type: 'submit', id: 'submit-run' }, 'Submit run');
   // The same scheme as JSON: for pasting a saved scheme or editing what the form cannot.
   const jsonArea = el('textarea', { id: 'scheme-json', rows: 18, spellcheck: 'false' });
@@ -35,7 +34,7 @@ async function showNewRun() {
       jsonError));
   jsonBox.addEventListener('toggle', () => { if (jsonBox.open) jsonArea.value = JSON.stringify(schemeForm.scheme(), null, 2); });
   const form = el('form', { id: 'new-run', novalidate: true }, presetBox, formBox, jsonBox,
-    el('div', { class: 'row submit-row' }, el('label', {}, 'threads ', threads), submit), formError);
+    el('div', { class: 'row submit-row' }, submit), formError);
   main.replaceChildren(el('h2', {}, 'New triaxial test'),
     el('p', { class: 'hint' }, 'Start from one of the paper\'s groups A–E; every field can be edited. Units are in the labels, limits beside each field. Compression is positive.'),
     form);
@@ -64,18 +63,15 @@ async function showNewRun() {
     formError.textContent = '';
     submit.disabled = true;
     try {
-      const body = { scheme: schemeForm.scheme() };
-      const t = Number(threads.value);
-      if (t > 0) body.threads = t;
-      const res = await postJSON('/runs', body);
+      // The scheme carries its own `threads`; the request needs nothing else.
+      const res = await postJSON('/runs', { scheme: schemeForm.scheme() });
       location.hash = `#/runs/${res.id}`;
     } catch (e) {
       const field = e instanceof ProblemError ? e.problem.field : null;
       // A pointer into the request body: the form holds the scheme, so drop "/scheme".
       const pointer = field ? field.replace(/^\/scheme(?=\/|$)/, '') : null;
-      const placed = pointer != null && schemeForm.showError(pointer, e.message);
+      if (pointer != null) schemeForm.showError(pointer, e.message);
       formError.textContent = `${e.status ? e.status + ' ' : ''}${e.problem?.title || 'error'}: ${e.message}${field ? ` (${field})` : ''}`;
-      if (!placed && field === '/threads') formError.textContent += ' — see threads';
     } finally { submit.disabled = false; }
   });
   return { close() {} };

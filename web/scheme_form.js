@@ -44,6 +44,22 @@ function outOfRange(s, v) {
   return false;
 }
 
+// The service's JSON comes back with keys sorted alphabetically; show the scheme in the
+// order a lab engineer fills it in: identity, specimen, grains, loading, then the model.
+const SECTION_ORDER = ['name', 'seed', 'threads', 'max_particles', 'specimen', 'gradation', 'loading', 'micro', 'creep', 'effects'];
+
+function orderedEntries(obj, pointer) {
+  const entries = Object.entries(obj);
+  const rank = ([k, v]) => {
+    if (pointer === '') { const i = SECTION_ORDER.indexOf(k); return i < 0 ? SECTION_ORDER.length : i; }
+    return v && typeof v === 'object' && !(Array.isArray(v) && !v.some(x => x && typeof x === 'object') && v.length) ? 1 : 0; // fields before sub-groups
+  };
+  return entries.map((e, i) => [e, i]).sort((a, b) => rank(a[0]) - rank(b[0]) || a[1] - b[1]).map(([e]) => e);
+}
+
+// Strip binary floating-point noise (8.899999999999999 -> 8.9) for display only.
+const tidy = v => (typeof v === 'number' && Number.isFinite(v) ? Number(v.toPrecision(12)) : v);
+
 export class SchemeForm {
   constructor(container) {
     this.container = container;
@@ -81,7 +97,7 @@ export class SchemeForm {
       const box = el('fieldset', { class: 'group', dataset: { pointer } });
       if (key !== '') box.append(el('legend', {}, String(key).replace(/_/g, ' ')));
       if (s.description && key !== '') box.append(el('p', { class: 'hint' }, s.description));
-      for (const [k, v] of Object.entries(value)) {
+      for (const [k, v] of orderedEntries(value, pointer)) {
         box.append(this.renderNode(v, childSchema(s, k, this.schema), `${pointer}/${escapeToken(k)}`, k));
       }
       return box;
@@ -119,7 +135,7 @@ export class SchemeForm {
     const error = el('span', { class: 'field-error', role: 'alert' });
     // A list of numbers states the limits of each entry.
     const itemLimits = Array.isArray(value) ? limitsText(resolveRef(s.items || {}, this.schema)) : '';
-    const limitText = [limitsText(s), itemLimits && `each ${itemLimits}`, Array.isArray(value) ? 'comma-separated' : '', unit].filter(Boolean).join(' ');
+    const limitText = [limitsText(s), itemLimits && `each ${itemLimits}`, Array.isArray(value) ? 'comma-separated' : ''].filter(Boolean).join(' ');
     const limits = el('span', { class: 'limits' }, limitText);
     let input;
     const type = Array.isArray(s.type) ? s.type.find(t => t !== 'null') : s.type;
@@ -130,13 +146,13 @@ export class SchemeForm {
       input = el('input', { id, type: 'checkbox', checked: !!value });
       input.addEventListener('change', () => this.setAt(pointer, input.checked));
     } else if (Array.isArray(value)) {
-      input = el('input', { id, type: 'text', value: value.join(', ') });
+      input = el('input', { id, type: 'text', value: value.map(tidy).join(', ') });
       input.addEventListener('input', () => {
         const parts = input.value.split(',').map(t => t.trim()).filter(t => t !== '');
         this.setAt(pointer, parts.map(t => (Number.isFinite(Number(t)) ? Number(t) : t)));
       });
     } else if (typeof value === 'number' || type === 'number' || type === 'integer') {
-      input = el('input', { id, type: 'number', step: 'any', value: value ?? '', min: s.minimum ?? s.exclusiveMinimum, max: s.maximum ?? s.exclusiveMaximum });
+      input = el('input', { id, type: 'number', step: 'any', value: tidy(value) ?? '', min: s.minimum ?? s.exclusiveMinimum, max: s.maximum ?? s.exclusiveMaximum });
       const check = () => {
         const raw = input.value.trim();
         const v = raw === '' ? null : Number(raw);

@@ -69,7 +69,7 @@ try {
   await page.click('#presets button.preset >> nth=0');
   const pointers = await page.$$eval('#scheme-form input[data-pointer], #scheme-form select[data-pointer]', es => es.map(e => e.dataset.pointer));
   check(pointers.length >= 5, `the scheme form has editable fields (${pointers.length})`);
-  const unitLabels = await page.$$eval('#scheme-form .field .limits', es => es.filter(e => /kPa|mm|%|min/.test(e.textContent)).length);
+  const unitLabels = await page.$$eval('#scheme-form .field label', es => es.filter(e => /kPa|mm|%|min/.test(e.textContent)).length);
   check(unitLabels > 0, `fields show their units (${unitLabels} with kPa/mm/%/min)`);
   await page.screenshot({ path: path.join(shots, '01_new_run_form.png'), fullPage: true });
 
