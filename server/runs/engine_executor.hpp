@@ -11,7 +11,7 @@ namespace triax::service {
 
 RunExecutor make_engine_executor();
 
-// TestResult -> {"summary": ..., "series": ...} in the columns of series_specs().
+// TestResult -> {"summary": ..., "series": {name: rows}} in the columns of series_specs().
 nlohmann::json result_document(const protocol::TestResult& r);
 
 }  // namespace triax::service
