@@ -110,11 +110,15 @@ function showRuns() {
 
 async function pollActivity() {
   try {
-    const { runs } = await getJSON('/runs');
-    const active = runs.filter(r => r.status === 'running' || r.status === 'queued');
-    activity.replaceChildren(...(active.length ? active.map(r =>
-      el('a', { href: `#/runs/${r.id}`, class: 'activity-item' }, `#${r.id} ${r.status} `, progressElement(r.stage, r.progress_pct, r.eta_s)))
-      : [el('span', { class: 'hint' }, 'no active runs')]));
+    const [{ runs }, { diagnoses }] = await Promise.all([getJSON('/runs'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
+    const isActive = x => x.status === 'running' || x.status === 'queued';
+    const items = [
+      ...runs.filter(isActive).map(r =>
+        el('a', { href: `#/runs/${r.id}`, class: 'activity-item' }, `run #${r.id} ${r.status} `, progressElement(r.stage, r.progress_pct, r.eta_s))),
+      ...(diagnoses || []).filter(isActive).map(d =>
+        el('a', { href: '#/diagnose', class: 'activity-item' }, `diagnosis #${d.id} ${d.status} `, progressElement(d.stage, d.progress_pct, d.eta_s))),
+    ];
+    activity.replaceChildren(...(items.length ? items : [el('span', { class: 'hint' }, 'no active runs or diagnoses')]));
   } catch { activity.replaceChildren(el('span', { class: 'error' }, 'service unreachable')); }
   setTimeout(pollActivity, 3000);
 }

@@ -1,24 +1,29 @@
 // Closing the loop: ask the service which test effect (seating error, membrane
 // compliance, ...) best explains the misfit between a scheme and a dataset, and show the
 // report: chosen effect, fitted parameters, error before/after, delta-BIC, verdict.
-// Progress comes from the SSE stream /diagnoses/{id}/events, with polling of
-// GET /diagnoses/{id} as the fallback that also fetches the final report.
+// Progress comes from the SSE stream /diagnoses/{id}/events (progress, candidate, done,
+// error), with polling of GET /diagnoses/{id} as the fallback that also fetches the
+// final report.
 
 import { el, getJSON, postJSON, progressElement } from './api.js';
 
-const num = v => (typeof v === 'number' ? Number(v.toPrecision(5)) : v == null ? '—' : String(v));
+const num = v => (typeof v === 'number' ? Number(v.toPrecision(5)) : v == null ? '—' : typeof v === 'boolean' ? (v ? 'yes' : 'no') : String(v));
 
 function table(id, cols, rows, headers = cols) {
   return el('table', { class: 'grid', id },
     el('tr', {}, headers.map(h => el('th', {}, h))),
-    rows.map(r => el('tr', {}, cols.map(c => el('td', {}, num(r[c]))))));
+    rows.map(r => el('tr', {}, cols.map(c => el('td', {}, typeof c === 'function' ? c(r) : num(r[c]))))));
 }
+
+const paramText = ps => (ps || []).map(p => `${p.name} = ${num(p.value)}${p.unit ? ' ' + p.unit : ''}${p.std != null ? ' ± ' + num(p.std) : ''}`).join('; ');
+const ACTIVE = new Set(['queued', 'running']);
 
 export class DiagnosisView {
   constructor(container) {
     this.container = container;
     this.timer = null;
     this.source = null;
+    this.diagnosisId = null;
     this.build();
     this.refreshLists();
   }
@@ -26,33 +31,42 @@ export class DiagnosisView {
   build() {
     this.datasetSelect = el('select', { id: 'diagnose-dataset' });
     this.runSelect = el('select', { id: 'diagnose-run' });
-    this.budget = el('input', { type: 'number', id: 'diagnose-budget', value: 24, min: 1, max: 500, step: 1 });
-    this.seed = el('input', { type: 'number', id: 'diagnose-seed', value: 1, step: 1 });
+    this.budget = el('input', { type: 'number', id: 'diagnose-budget', value: 24, min: 4, max: 400, step: 1 });
+    this.maxParticles = el('input', { type: 'number', id: 'diagnose-max-particles', value: 0, min: 0, step: 1, title: '0 = as in the scheme' });
+    this.seed = el('input', { type: 'number', id: 'diagnose-seed', value: 1, min: 0, step: 1 });
     this.error = el('div', { class: 'field-error', role: 'alert' });
-    this.progress = el('div', { id: 'diagnosis-progress' });
-    this.candidates = el('ul', { class: 'candidates' });
+    this.progress = el('div', { id: 'diagnosis-progress' }, el('span', { class: 'hint' }, 'no diagnosis selected'));
+    this.candidates = el('div', { id: 'diagnosis-candidates' });
     this.report = el('div', { id: 'diagnosis-report' });
+    this.list = el('div', { id: 'diagnosis-list' });
     this.container.replaceChildren(
       el('h2', {}, 'Diagnosis'),
       el('section', { class: 'card' },
-        el('p', { class: 'hint' }, 'Fits the base model and each candidate test effect to the dataset and ranks them by BIC. The scheme is taken from the chosen run.'),
+        el('p', { class: 'hint' }, 'Calibrates the base model and each candidate test effect (seating, membrane compliance, rolling resistance, breakage, ...) against the dataset and ranks them by BIC with an effective number of readings. The scheme is taken from the chosen run. Each candidate costs DEM runs: the budget bounds them.'),
         el('div', { class: 'row' },
           el('label', {}, 'dataset ', this.datasetSelect), el('label', {}, 'scheme of run ', this.runSelect),
-          el('label', {}, 'budget (runs) ', this.budget), el('label', {}, 'seed ', this.seed),
-          el('button', { type: 'button', id: 'diagnose-button', onclick: () => this.start() }, 'Diagnose'),
-          el('input', { type: 'number', id: 'diagnosis-open-id', placeholder: 'open id', min: 1, style: 'width:6em' }),
-          el('button', { type: 'button', onclick: () => { const v = Number(document.getElementById('diagnosis-open-id').value); if (v) this.follow(v); } }, 'Open')),
+          el('label', {}, 'budget (runs, 4…400) ', this.budget), el('label', {}, 'max particles per run ', this.maxParticles),
+          el('label', {}, 'seed ', this.seed),
+          el('button', { type: 'button', id: 'diagnose-button', onclick: () => this.start() }, 'Diagnose')),
         this.error),
       el('section', { class: 'card' }, el('h3', {}, 'Progress'), this.progress, this.candidates),
-      el('section', { class: 'card' }, el('h3', {}, 'Report'), this.report));
+      el('section', { class: 'card' }, el('h3', {}, 'Report'), this.report),
+      el('section', { class: 'card' }, el('h3', {}, 'Earlier diagnoses'), this.list));
   }
 
   async refreshLists() {
     try {
-      const [{ runs }, { datasets }] = await Promise.all([getJSON('/runs'), getJSON('/datasets')]);
+      const [{ runs }, { datasets }, diag] = await Promise.all([getJSON('/runs'), getJSON('/datasets'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
       this.runSelect.replaceChildren(...runs.filter(r => r.scheme_id != null)
         .map(r => el('option', { value: r.scheme_id }, `#${r.id} ${r.name || ''} (scheme ${r.scheme_id})`)));
       this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
+      const list = diag.diagnoses || [];
+      this.list.replaceChildren(list.length
+        ? table('diagnoses-table', [
+          d => el('a', { href: '#/diagnose', onclick: ev => { ev.preventDefault(); this.follow(d.id); } }, `#${d.id}`),
+          'dataset_id', 'status', d => num(d.progress_pct) + ' %', d => d.chosen_effect || '—', 'created_at'],
+        list, ['id', 'dataset', 'status', 'progress', 'chosen effect', 'created'])
+        : el('span', { class: 'hint' }, 'none yet'));
     } catch (e) { this.error.textContent = e.message; }
   }
 
@@ -61,10 +75,12 @@ export class DiagnosisView {
     const datasetId = Number(this.datasetSelect.value);
     const schemeId = Number(this.runSelect.value);
     if (!datasetId || !schemeId) { this.error.textContent = 'pick a dataset and a run whose scheme to use'; return; }
+    const body = { scheme_id: schemeId, budget_runs: Number(this.budget.value), seed: Number(this.seed.value) };
+    if (Number(this.maxParticles.value) > 0) body.max_particles = Number(this.maxParticles.value);
     try {
-      const res = await postJSON(`/datasets/${datasetId}/diagnose`,
-        { scheme_id: schemeId, budget_runs: Number(this.budget.value), seed: Number(this.seed.value) });
+      const res = await postJSON(`/datasets/${datasetId}/diagnose`, body);
       this.follow(res.id);
+      this.refreshLists();
     } catch (e) {
       const field = e.problem?.field;
       this.error.textContent = `${field ? field + ': ' : ''}${e.message}`;
@@ -74,17 +90,23 @@ export class DiagnosisView {
   follow(id) {
     this.stop();
     this.diagnosisId = id;
+    this.lastStage = null;
+    this.candidateRows = [];
     this.candidates.replaceChildren();
-    this.report.replaceChildren(el('p', { class: 'hint' }, `diagnosis #${id} running…`));
+    this.report.replaceChildren(el('p', { class: 'hint' }, `diagnosis #${id}: waiting for the report…`));
     this.source = new EventSource(`/diagnoses/${id}/events`);
     const parse = ev => { try { return JSON.parse(ev.data); } catch { return null; } };
     this.source.addEventListener('progress', ev => {
       const d = parse(ev);
-      if (d) this.progress.replaceChildren(progressElement(d.stage || d.phase || 'diagnosis', d.progress_pct, d.eta_s));
+      if (d) { this.lastStage = d.stage; this.showProgress('running', d.stage, d.progress_pct, d.eta_s); }
     });
     this.source.addEventListener('candidate', ev => {
       const d = parse(ev);
-      if (d) this.candidates.append(el('li', {}, Object.entries(d).map(([k, v]) => `${k}: ${num(v)}`).join(' · ')));
+      if (!d) return;
+      this.candidateRows.push(d);
+      this.candidates.replaceChildren(el('h4', {}, 'Candidates tried'), table('diagnosis-candidates-table',
+        ['step', 'effect', 'fitted', r => paramText(r.parameters), 'nrmse', 'bic', 'delta_bic_vs_base', 'note'], this.candidateRows,
+        ['step', 'effect', 'fitted', 'parameters', 'NRMSE', 'BIC', 'ΔBIC vs base', 'note']));
     });
     const end = () => { this.source?.close(); this.poll(); };
     this.source.addEventListener('done', end);
@@ -92,17 +114,24 @@ export class DiagnosisView {
     this.poll();
   }
 
+  showProgress(status, stage, pct, eta) {
+    this.progress.replaceChildren(el('span', {}, `diagnosis #${this.diagnosisId} `),
+      el('span', { class: `status status-${status}` }, status), ' ', progressElement(stage || 'diagnosis', pct, eta),
+      ACTIVE.has(status) ? el('button', { type: 'button', onclick: () => postJSON(`/diagnoses/${this.diagnosisId}/cancel`).then(() => this.poll()).catch(e => { this.error.textContent = e.message; }) }, 'Cancel') : null);
+  }
+
   async poll() {
     clearTimeout(this.timer);
+    const id = this.diagnosisId;
     try {
-      const d = await getJSON(`/diagnoses/${this.diagnosisId}`);
-      if (!this.source || this.source.readyState === EventSource.CLOSED || d.status !== 'running') {
-        this.progress.replaceChildren(el('span', { class: `status status-${d.status}` }, d.status), ' ',
-          progressElement(d.stage || 'diagnosis', d.progress_pct, d.eta_s));
-      }
+      const d = await getJSON(`/diagnoses/${id}`);
+      if (id !== this.diagnosisId) return;
+      // GET /diagnoses/{id} has no stage; keep the last one the stream announced.
+      this.showProgress(d.status, d.stage || this.lastStage, d.progress_pct, d.eta_s);
       if (d.report) { this.renderReport(d); return; }
-      if (d.status === 'failed' || d.status === 'cancelled') {
-        this.report.replaceChildren(el('p', { class: 'error' }, d.error || d.detail || d.status));
+      if (!ACTIVE.has(d.status)) {
+        this.report.replaceChildren(el('p', { class: 'error' }, `${d.status}${d.error ? ': ' + d.error : ''}`));
+        this.stop();
         return;
       }
     } catch (e) { this.error.textContent = e.message; }
@@ -113,24 +142,35 @@ export class DiagnosisView {
     this.stop();
     const r = d.report;
     const parts = [
-      el('p', { class: 'verdict', id: 'diagnosis-verdict' }, el('strong', {}, 'Chosen effect: '), String(r.chosen_effect), el('br'), r.verdict || ''),
+      el('p', { class: 'verdict', id: 'diagnosis-verdict' }, el('strong', {}, 'Chosen effect: '), String(r.chosen_effect),
+        r.effects?.length > 1 ? ` (effects: ${r.effects.join(', ')})` : '', el('br'), r.verdict || ''),
+      el('p', { class: 'hint' }, `NRMSE ${num(r.nrmse_before)} → ${num(r.nrmse_after)} · ${num(r.n_readings)} readings, ` +
+        `${num(r.n_effective)} effectively independent · ${num(r.runs_used)} DEM runs`),
     ];
-    if (r.parameters?.length) parts.push(el('h4', {}, 'Fitted parameters'), table('diagnosis-parameters', ['name', 'value', 'std'], r.parameters, ['parameter', 'value', '± std']));
-    const errCols = ['curve', 'phase', 'rmse', 'nrmse'];
-    if (r.error_before?.length) parts.push(el('h4', {}, 'Error before calibration'), table('diagnosis-before', errCols, r.error_before));
-    if (r.error_after?.length) parts.push(el('h4', {}, 'Error after calibration'), table('diagnosis-after', errCols, r.error_after));
+    if (r.parameters?.length) parts.push(el('h4', {}, 'Fitted parameters'), table('diagnosis-parameters', ['name', 'value', 'std', 'unit'], r.parameters, ['parameter', 'value', '± std', 'unit']));
+    if (r.base_parameters?.length) parts.push(el('h4', {}, 'Base model parameters'), table('diagnosis-base-parameters', ['name', 'value', 'std', 'unit'], r.base_parameters, ['parameter', 'value', '± std', 'unit']));
+    const errCols = ['curve', 'phase', 'n', 'rmse', 'unit', 'nrmse'];
+    if (r.error_before?.length) parts.push(el('h4', {}, 'Error before (base model)'), table('diagnosis-before', errCols, r.error_before));
+    if (r.error_after?.length) parts.push(el('h4', {}, 'Error after (with the chosen effect)'), table('diagnosis-after', errCols, r.error_after));
     if (r.delta_bic) {
       parts.push(el('h4', {}, 'ΔBIC (negative favours the effect)'),
-        el('p', {}, `vs base model: ${num(r.delta_bic.vs_base)}`));
+        el('p', { id: 'diagnosis-delta-bic' }, `vs base model: ${num(r.delta_bic.vs_base)}`));
       if (r.delta_bic.runners_up?.length) parts.push(table('diagnosis-runners-up', ['effect', 'delta_bic'], r.delta_bic.runners_up, ['runner-up effect', 'ΔBIC']));
     }
+    if (r.steps?.length) parts.push(el('h4', {}, 'Selection steps'), table('diagnosis-steps', ['step', 'added', 'nrmse_before', 'nrmse_after', 'delta_bic', 'n_effective'], r.steps, ['step', 'added', 'NRMSE before', 'NRMSE after', 'ΔBIC', 'n eff']));
+    if (!this.candidateRows?.length && r.candidates?.length) {
+      this.candidates.replaceChildren(el('h4', {}, 'Candidates tried'), table('diagnosis-candidates-table',
+        ['step', 'effect', 'fitted', c => paramText(c.parameters), 'nrmse', 'bic', 'delta_bic_vs_base', 'note'], r.candidates,
+        ['step', 'effect', 'fitted', 'parameters', 'NRMSE', 'BIC', 'ΔBIC vs base', 'note']));
+    }
     this.report.replaceChildren(...parts);
+    this.refreshLists();
   }
 
   stop() {
     clearTimeout(this.timer);
-    if (this.source) { this.source.close(); }
+    if (this.source) this.source.close();
   }
 
-  close() { this.stop(); this.source = null; }
+  close() { this.stop(); this.source = null; this.diagnosisId = null; }
 }

@@ -201,7 +201,7 @@ try {
 
   // ---- 4. the diagnosis panel loads its lists (the loop itself is tested elsewhere) --
   await page.goto(`${base}/#/diagnose`);
-  await page.waitForSelector('#diagnose-dataset option', { timeout: 10000 }).catch(() => {});
+  await page.waitForSelector('#diagnose-dataset option', { state: 'attached', timeout: 10000 }).catch(() => {});
   check(await page.$$eval('#diagnose-dataset option', o => o.length) > 0, 'the diagnosis panel lists the uploaded dataset');
   await page.screenshot({ path: path.join(shots, '06_diagnosis_panel.png'), fullPage: true });
 } catch (e) {
