@@ -17,7 +17,9 @@
 //  - shear strains are rebased to the first reading of the shear stage;
 //  - "Volume Change (mm3)" positive = water out of the specimen = contraction; volumetric
 //    strain needs the initial height and diameter from the preamble.
-//  - confining pressure = Eff. Radial Stress if present, else Radial Pressure - Back Pressure.
+//  - confining pressure = Eff. Radial Stress if present, else Radial Pressure - Back Pressure;
+//  - without "Time since start of stage (s)", stage time is rebased from "Time since start
+//    of test (s)" at the stage's first reading.
 namespace triax::io {
 
 using diagnose::CurveKind;
@@ -93,6 +95,7 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
     };
     const auto c_stage = find({"stage number"});
     const auto c_time = find({"time since start of stage (s)"});
+    const auto c_test_time = find({"time since start of test (s)"});
     const auto c_disp = find({"axial displacement (mm)"});
     const auto c_strain = find({"axial strain (%)"});
     const auto c_q = find({"deviator stress (kpa)"});
@@ -103,7 +106,9 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
     auto missing = [&](const char* what) {
         return LabParseError(std::string("required column '") + what + "' is missing", header.line, 1);
     };
-    if (!c_time) throw missing("Time since start of stage (s)");
+    if (!c_time && !c_test_time) throw missing("Time since start of stage (s)");
+    // Without the stage clock, stage time = test time - test time of the stage's first reading.
+    const bool rebase_time = !c_time;
     if (!c_q) throw missing("Deviator Stress (kPa)");
     if (!c_disp && !c_strain) throw missing("Axial Displacement (mm)");
     if (!c_eff_radial && !c_radial) throw missing("Radial Pressure (kPa)");
@@ -122,7 +127,7 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
         Reading x{};
         x.rec = &rec;
         x.stage = static_cast<int>(num(c_stage));
-        x.t_s = num(c_time);
+        x.t_s = num(c_time ? c_time : c_test_time);
         x.q_kpa = num(c_q);
         x.has_disp = c_disp.has_value();
         x.has_strain = c_strain.has_value() || height_mm > 0;
@@ -164,7 +169,7 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
                 const auto& x = rows[i];
                 const LabCellOrigin o{x.rec->line, 1, {}};
                 std::vector<std::pair<LabQuantity, LabCurveCollector::Cell>> cells;
-                cells.push_back({LabQuantity::Time, {x.t_s, o}});
+                cells.push_back({LabQuantity::Time, {rebase_time ? x.t_s - first.t_s : x.t_s, o}});
                 cells.push_back({LabQuantity::Deviator, {x.q_kpa * 1e3, o}});
                 if (creep) {
                     if (x.has_disp) cells.push_back({LabQuantity::AxialDeformation, {(x.disp_mm - before.disp_mm) * 1e-3, o}});

@@ -80,6 +80,16 @@ TEST_CASE("GDS-Lab export: stages classified, creep deformation from the end of 
     CHECK(creep.time_s[2] == Approx(1200.0));
 }
 
+TEST_CASE("GDS-Lab export without the stage clock rebases the test clock per stage", "[server][lab]") {
+    const auto d = io::parse_lab_gds(
+        "Stage Number,Time since start of test (s),Radial Pressure (kPa),Axial Strain (%),Deviator Stress (kPa)\n"
+        "4,1000,100,1.0,50\n4,1600,100,1.1,50.5\n4,2200,100,1.15,49.9\n");
+    REQUIRE(d.curves.size() == 1);
+    CHECK(d.curves[0].kind == diagnose::CurveKind::Creep);
+    CHECK(d.curves[0].time_s == std::vector<double>{0.0, 600.0, 1200.0});
+    CHECK(d.curves[0].axial_strain[2] == Approx(0.0015));  // from the first reading (no earlier stage)
+}
+
 TEST_CASE("GDS-Lab export errors", "[server][lab]") {
     CHECK_THROWS_AS(io::parse_lab_gds("a,b\n1,2\n"), io::LabParseError);
     try {
