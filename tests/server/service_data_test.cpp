@@ -156,6 +156,9 @@ TEST_CASE("error path of every endpoint answers problem details", "[server][erro
     r = srv.post("/schemes", json{{"gradation", {{"kind", "radius_ratio"}, {"r_min_mm", 0.001}, {"radius_ratio", 1.01}}}});
     check_problem(r, 422);
     CHECK(r.body["limit"].get<std::string>().find("particle_count") != std::string::npos);
+    r = srv.post("/schemes", json{{"gradation", {{"kind", "radius_ratio"}, {"r_min_mm", -1}}}});
+    check_problem(r, 422);
+    CHECK(r.body["field"].get<std::string>().rfind("/gradation", 0) == 0);
     check_problem(srv.get("/schemes/999"), 404);
     check_problem(srv.get("/schemes/abc"), 404);
     // runs
