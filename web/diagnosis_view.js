@@ -115,9 +115,9 @@ export class DiagnosisView {
   }
 
   showProgress(status, stage, pct, eta) {
-    this.progress.replaceChildren(el('span', {}, `diagnosis #${this.diagnosisId} `),
+    this.progress.replaceChildren(...[el('span', {}, `diagnosis #${this.diagnosisId} `),
       el('span', { class: `status status-${status}` }, status), ' ', progressElement(stage || 'diagnosis', pct, eta),
-      ACTIVE.has(status) ? el('button', { type: 'button', onclick: () => postJSON(`/diagnoses/${this.diagnosisId}/cancel`).then(() => this.poll()).catch(e => { this.error.textContent = e.message; }) }, 'Cancel') : null);
+      ACTIVE.has(status) ? el('button', { type: 'button', onclick: () => postJSON(`/diagnoses/${this.diagnosisId}/cancel`).then(() => this.poll()).catch(e => { this.error.textContent = e.message; }) }, 'Cancel') : null].filter(x => x != null));
   }
 
   async poll() {

@@ -166,6 +166,12 @@ try {
   const csvLines = fs.readFileSync(csvPath, 'utf8').trim().split('\n');
   check(/kPa/.test(csvLines[0]) && csvLines.length === counts['plot-q'] + 1, `CSV export has a unit header and every point (${csvLines.length - 1} rows)`);
 
+  await page.goto(`${base}/#/runs`);
+  await page.waitForSelector(`#runs-table tr[data-run-id="${runId}"]`, { timeout: 10000 });
+  const row = await page.textContent(`#runs-table tr[data-run-id="${runId}"]`);
+  check(/done/.test(row) && /100\.0 %/.test(row), `the runs list shows run ${runId} done at 100 % (${row.replace(/\s+/g, ' ').trim()})`);
+  await page.screenshot({ path: path.join(shots, '04b_runs_list.png'), fullPage: false });
+
   // ---- 3. lab readings: upload, compare, overlay, residuals, metrics ---------------
   const summary = await (await fetch(`${base}/runs/${runId}/results/summary`)).json();
   const qPeak = Number(summary.q_failure_kPa) || 200;
