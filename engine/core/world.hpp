@@ -42,6 +42,8 @@ public:
     std::size_t particle_count() const { return particles_.size(); }
     PlaneWall& plane_wall(int k) { return plane_walls_.at(k); }
     CylinderWall& cylinder_wall(int k) { return cylinder_walls_.at(k); }
+    const PlaneWall& plane_wall(int k) const { return plane_walls_.at(k); }
+    const CylinderWall& cylinder_wall(int k) const { return cylinder_walls_.at(k); }
     Clump& clump(int k) { return clumps_.at(k); }
     const Clump& clump(int k) const { return clumps_.at(k); }
     std::size_t plane_wall_count() const { return plane_walls_.size(); }

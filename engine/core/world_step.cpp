@@ -65,11 +65,12 @@ void ball_contacts(ContactStore& c, const ParticleArrays& pa, const std::vector<
                     const double keep_offset = (geo > 0 && d2 < geo * geo) ? c.creep_normal_offset[k] : 0.0;
                     c.reset_history(k);
                     c.creep_normal_offset[k] = keep_offset;
+                    c.force_on_j[k].setZero();
+                    c.torque_on_i[k].setZero();
+                    c.torque_on_j[k].setZero();
+                    c.overlap[k] = 0.0;
                 }
-                c.force_on_j[k].setZero();
-                c.torque_on_i[k].setZero();
-                c.torque_on_j[k].setZero();
-                c.overlap[k] = std::sqrt(d2) - reach < 0 ? 0.0 : -(std::sqrt(d2) - reach);
+                // Invariant: inactive slots hold zero force, so nothing to write here.
                 continue;
             }
             const double dist = std::sqrt(d2);
@@ -222,6 +223,9 @@ void World::gather_and_integrate() {
     const Vec3 lo = has_domain ? domain_->first : Vec3::Zero();
     const Vec3 hi = has_domain ? domain_->second : Vec3::Zero();
 
+    const double side_sign[2] = {-1.0, 1.0};
+    const Vec3* const side_torque[2] = {c.torque_on_i.data(), c.torque_on_j.data()};
+
 #pragma omp parallel for schedule(static) num_threads(threads_) if (n >= kParallelMin)
     for (long b = 0; b < nb; ++b) {
         ParticleSums s;
@@ -230,9 +234,10 @@ void World::gather_and_integrate() {
             Vec3 f = Vec3::Zero(), t = Vec3::Zero();
             double kt = 0.0, kr = 0.0;
             for (int e = adj_start_[p]; e < adj_start_[p + 1]; ++e) {
-                const int slot = adj_[e] >> 1;
-                if (adj_[e] & 1) { f += c.force_on_j[slot]; t += c.torque_on_j[slot]; }
-                else { f -= c.force_on_j[slot]; t += c.torque_on_i[slot]; }
+                // Branch-free: the side bit picks the sign of the force and the torque array.
+                const int slot = adj_[e] >> 1, side = adj_[e] & 1;
+                f += side_sign[side] * c.force_on_j[slot];
+                t += side_torque[side][slot];
                 if (need_stiffness && c.active[slot]) {
                     const ContactLaw& l = laws[c.law[slot]];
                     kt += l.kn + l.ks;
