@@ -15,12 +15,19 @@ struct TimeDeformation {
 
 // `raw`: cumulative readings of the whole multi-stage test; stage k starts at
 // stage_start_time and deformation_before is the deformation just before its load step.
+// Two readings at stage_start_time (the end of stage k-1 and the reading after the load
+// step) are told apart by order: the stage starts at the last of them.
 inline std::vector<TimeDeformation> translate_stage(const std::vector<TimeDeformation>& raw, double stage_start_time,
                                                     double stage_end_time, double deformation_before) {
+    std::size_t first = raw.size();
+    for (std::size_t k = 0; k < raw.size(); ++k) {
+        if (raw[k].time <= stage_start_time) first = k;
+        else if (first == raw.size()) { first = k; break; }
+        else break;
+    }
     std::vector<TimeDeformation> out;
-    for (const auto& r : raw)
-        if (r.time >= stage_start_time && r.time <= stage_end_time)
-            out.push_back({r.time - stage_start_time, r.deformation - deformation_before});
+    for (std::size_t k = first; k < raw.size() && raw[k].time <= stage_end_time; ++k)
+        if (raw[k].time >= stage_start_time) out.push_back({raw[k].time - stage_start_time, raw[k].deformation - deformation_before});
     return out;
 }
 

@@ -6,8 +6,8 @@
 namespace triax::creep {
 
 double RateProcessCreep::accumulated_slip(int i, int j) const {
-    auto it = slip_.find(key(std::min(i, j), std::max(i, j)));
-    return it == slip_.end() ? 0.0 : it->second;
+    auto it = state_.find(key(std::min(i, j), std::max(i, j)));
+    return it == state_.end() ? 0.0 : it->second.slip;
 }
 
 CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) {
@@ -15,7 +15,8 @@ CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) {
     CreepUpdateSummary out;
     auto& c = world.contacts();
     const auto& grp = world.particles().group;
-    long bonded = 0;
+    long bonded = 0, frictional = 0;
+    double asperity_sum = 0.0;
     double damage_sum = 0.0;
     // Serial loop in slot order: deterministic, and cheap next to the relaxation cycles.
     for (std::size_t k = 0; k < c.i.size(); ++k) {
@@ -27,8 +28,17 @@ CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) {
         // 1. viscous slip (frictional, compressive contacts only)
         if (p_.slip_rate_a_m_s > 0.0 && fn > 0.0 && fs > 0.0 && law.friction > 0.0 && law.ks > 0.0) {
             const double f = std::min(1.0, fs / (law.friction * fn));
-            double& s = slip_[key(c.i[k], c.j[k])];
-            const double v = p_.slip_rate_a_m_s * std::sinh(p_.slip_beta * f) * std::exp(-s / p_.slip_hardening_length_m);
+            State& st = state_[key(c.i[k], c.j[k])];
+            double& s = st.slip;
+            if (f > p_.damage_threshold && p_.damage_rate_b1_per_s > 0.0)
+                st.damage = std::min(0.95, st.damage + p_.damage_rate_b1_per_s * std::exp(p_.damage_b2 * f) * dt);
+            asperity_sum += st.damage;
+            ++frictional;
+            const double weak = 1.0 - st.damage;
+            // Delayed-slip capacity of the contact (a Kelvin element in rate-process form):
+            // grows with mobilisation and without bound as f -> 1, and with damage.
+            const double s_lim = p_.slip_hardening_length_m * f / ((1.0 - f + 0.05) * weak);
+            const double v = p_.slip_rate_a_m_s * std::sinh(p_.slip_beta * f) * std::max(0.0, 1.0 - s / s_lim) / weak;
             const double delta = std::min(v * dt, fs / law.ks);
             const double fs_new = fs - law.ks * delta;
             out.dissipated_j += 0.5 * (fs * fs - fs_new * fs_new) / law.ks;
@@ -52,6 +62,7 @@ CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) {
         }
     }
     out.mean_damage = bonded ? damage_sum / bonded : 0.0;
+    out.mean_asperity_damage = frictional ? asperity_sum / frictional : 0.0;
     world.energy().creep += out.dissipated_j;
     return out;
 }

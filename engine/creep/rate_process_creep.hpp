@@ -3,12 +3,20 @@
 // relaxations over a physical-time increment dt:
 //
 // 1. Rate-process viscous slip at frictional soil-soil contacts (Kuhn & Mitchell 1993):
-//      v = A * sinh(beta * f) * exp(-s / s_h),   f = |Fs| / (mu Fn) in [0, 1]
-//    with s the contact's accumulated creep slip (asperity interlocking hardens it).
+//      v = A * sinh(beta * f) * max(0, 1 - s / s_lim) / (1 - D_c),   f = |Fs| / (mu Fn) in [0, 1]
+//      s_lim = s_h * f / ((1 - f + 0.05) (1 - D_c))
+//    with s the contact's accumulated creep slip and s_lim its delayed-slip capacity (a
+//    Kelvin element in rate-process form: interlocking stops the slip, so creep decelerates
+//    and converges; a higher load raises f and opens new capacity, near sliding the
+//    capacity is large) and D_c the asperity damage of the contact, grown by
+//    stress corrosion where the contact is close to sliding:
+//      dD_c/dt = b1 * exp(b2 * f)   when f > f_th      (D_c capped at 0.95)
+//    so that near failure (S ~ 0.8) damage outruns hardening late in the stage and the
+//    rate rises again (tertiary creep); at low mobilisation D_c stays ~0.
 //    The slip over dt, delta = v dt (capped at the elastic shear displacement |Fs|/ks),
 //    relaxes the shear spring: Fs <- Fs (1 - ks delta / |Fs|). The energy ks-spring
 //    energy released is booked as creep dissipation.
-// 2. Stress corrosion of contact bonds (Potyondy 2007):
+// 2. Stress corrosion of contact bonds (Potyondy 2007), same b1, b2, threshold:
 //      dD/dt = b1 * exp(b2 * rho)   when rho > rho_th,   rho = max(tension/Tn, |Fs|/Ss)
 //    D scales the bond strengths by (1 - D); a bond breaks (engine) once its load
 //    exceeds the reduced strength, which lets damage run away at high stress (tertiary).
@@ -36,6 +44,7 @@ struct CreepUpdateSummary {
     double dissipated_j = 0.0;     // spring energy relaxed by viscous slip
     double max_slip_m = 0.0;       // largest slip of the increment
     double mean_damage = 0.0;      // over bonded contacts
+    double mean_asperity_damage = 0.0;  // over sliding-prone frictional contacts
     long bonds_damaged = 0;        // contacts whose damage grew
 };
 
@@ -55,7 +64,11 @@ private:
         return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
     }
     RateProcessParams p_;
-    std::unordered_map<std::uint64_t, double> slip_;
+    struct State {
+        double slip = 0.0;    // m, accumulated creep slip
+        double damage = 0.0;  // asperity damage D_c
+    };
+    std::unordered_map<std::uint64_t, State> state_;
 };
 
 }  // namespace triax::creep

@@ -64,7 +64,9 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], kShrink * radii[q], soil_density_, kSoilGroup);
 
     double rm = s.micro.membrane_particle_radius_m;
-    if (rm <= 0.0) rm = std::clamp(rmin, 1.0e-3, 0.05 * s.specimen.diameter_m);
+    // Automatic: a quarter of the mean grain radius (no grain slips through the lattice)
+    // but not below the smallest grain, 1 mm .. D/20 (a few thousand membrane spheres).
+    if (rm <= 0.0) rm = std::clamp(std::max(rmin, 0.25 * r_mean_), 1.0e-3, 0.05 * s.specimen.diameter_m);
     membrane_ = std::make_unique<boundary::Membrane>(world_, R, H, rm, 1000.0, kMembraneGroup);
     world_.add_plane_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), kPlatenGroup);
     world_.add_plane_wall(Vec3(0, 0, 0.5 * H), -Vec3::UnitZ(), kPlatenGroup);
@@ -73,9 +75,12 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     world_.set_local_damping(s.micro.local_damping);
     world_.set_density_scaling(true);
     world_.set_threads(s.threads);
-    // Density scaling makes any dt stable; pick the inertial step of the smallest grain.
-    const double m_min = soil_density_ * 4.0 / 3.0 * kPi * rmin * rmin * rmin;
-    world_.set_time_step(0.5 * std::sqrt(m_min / soil_kn_));
+    // Density scaling makes any dt stable (grains lighter than 4 k dt^2 are given that
+    // inertia); the step of the smallest grain, but no smaller than a fifth of the mean
+    // grain's, keeps wide gradations affordable. Only equilibrium states are used.
+    const double r_dt = std::max(rmin, 0.2 * r_mean_);
+    const double m_dt = soil_density_ * 4.0 / 3.0 * kPi * r_dt * r_dt * r_dt;
+    world_.set_time_step(0.5 * std::sqrt(m_dt / soil_kn_));
     membrane_->bond(world_, 1.0e9);
     membrane_->set_fixed(world_, true);
 

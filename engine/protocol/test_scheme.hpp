@@ -62,15 +62,15 @@ struct MicroParameters {
 struct CreepLawParameters {
     // Rate process: slip rate v = v0 * exp(-dE/kT) * sinh(f / f_ref) applied to the
     // mobilised friction ratio f = |Fs| / (mu Fn). Lumped here as v = A sinh(beta f).
-    double slip_rate_a_m_s = 2.0e-10;      // A: slip rate scale (m/s) at f ~ 1/beta
+    double slip_rate_a_m_s = 3.0e-9;       // A: slip rate scale (m/s) at f ~ 1/beta
     double slip_beta = 6.0;                // beta: sensitivity to mobilisation
-    // Asperity hardening: the rate decays as exp(-s / s_h) with the contact's accumulated
-    // creep slip s (interlocking as pores close: decelerating creep).
-    double slip_hardening_length_m = 5.0e-6;
-    // Stress corrosion: dD/dt = b1 exp(b2 (sigma/sigma_c)) when sigma/sigma_c > threshold.
-    double damage_rate_b1_per_s = 1.0e-8;
-    double damage_b2 = 12.0;
-    double damage_threshold = 0.55;
+    // Delayed-slip capacity scale s_h: capacity s_lim = s_h f / (1 - f + 0.05) (docs/creep.md).
+    double slip_hardening_length_m = 10.0e-6;
+    // Stress corrosion (asperities and bonds): dD/dt = b1 exp(b2 x) when x > threshold, with
+    // x the friction mobilisation |Fs|/(mu Fn) (asperities) or load/strength (bonds).
+    double damage_rate_b1_per_s = 1.0e-9; 
+    double damage_b2 = 10.0;
+    double damage_threshold = 0.9;
     // Physical-time scheduler.
     double first_increment_s = 1.0;        // first time increment of a creep stage
     double increment_growth = 1.25;        // geometric growth of increments
@@ -86,7 +86,7 @@ struct LoadingSpec {
     StressLevelDefinition stress_level_definition = StressLevelDefinition::DeviatorRatio;
     double cohesion_pa = 25.0e3;                    // Table 1, for Eq. 1
     double friction_angle_deg = 32.0;               // Table 1, for Eq. 1
-    std::vector<double> stage_durations_s = {14400.0, 14400.0, 14400.0, 14400.0};  // physical time per stage
+    std::vector<double> stage_durations_s = {86400.0, 86400.0, 86400.0, 86400.0};  // physical time per stage (1 day)
     double shear_strain_rate_per_s = 1.0e-4 / 60.0; // lab rate (0.01 %/min), mapped to a quasi-static DEM rate
     double max_axial_strain = 0.15;
     double consolidation_tolerance = 1.0e-3;        // mean unbalanced / mean contact force

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "engine/creep/coordinate_translation.hpp"
 #include "engine/creep/rate_process_creep.hpp"
@@ -88,60 +89,77 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
     const double sigma3 = scheme.loading.confining_pressure_pa;
     res.sigma3_pa = sigma3;
     try {
-        // ---- generation --------------------------------------------------------
-        obs.stage_changed("generation", 0, 0.0, 0.0);
-        prog.report("generation", 0, 0.0);
-        Specimen sp(scheme);
-        World& w = sp.world();
-        res.particle_count = sp.soil_count();
-        res.membrane_particle_count = sp.membrane().count();
-        res.initial_porosity = sp.porosity();
-        sp.install_test_laws();
-        sp.membrane().set_fixed(w, false);
-        const double dt = w.time_step();
-        const double k_skel = sp.soil_kn() * 8.0;  // about 8 contacts under a grain
-        const double v_max = 0.05 * sp.height() / (2000.0 * dt);
-
-        // ---- isotropic consolidation --------------------------------------------
-        obs.stage_changed("consolidation", 0, 0.0, 0.0);
-        w.energy().reset_accumulated();
-        const long consolidation_start = w.step();
-        double ratio = 1.0;
-        const long max_consolidation = 400000;
-        for (long n = 0; n < max_consolidation; n += kChunk) {
-            const double area = sp.volume() / sp.height();
-            auto& top = w.plane_wall(sp.top_wall());
-            auto& bot = w.plane_wall(sp.bottom_wall());
-            top.velocity = Vec3(0, 0, -servo_velocity(sigma3, top.normal_stress(area), area, k_skel, dt, v_max));
-            bot.velocity = Vec3(0, 0, servo_velocity(sigma3, bot.normal_stress(area), area, k_skel, dt, v_max));
-            sp.cycle(kChunk, sigma3);
-            ratio = w.unbalanced_force_ratio();
-            const bool stress_ok = std::abs(sp.axial_stress() - sigma3) < kStressTolerance * sigma3;
-            if (n > 2000 && stress_ok && ratio < scheme.loading.consolidation_tolerance) break;
-            if (n % 2000 == 0) prog.report("consolidation", 0, std::min(1.0, 0.5 * n / 20000.0));
-        }
-        w.plane_wall(sp.top_wall()).velocity.setZero();
-        w.plane_wall(sp.bottom_wall()).velocity.setZero();
-        res.consolidation.unbalanced_force_ratio = ratio;
-        res.consolidation.porosity = sp.porosity();
-        res.consolidation.steps = w.step() - consolidation_start;
-        res.consolidation.achieved_sigma3_pa = sp.axial_stress();
-        obs.energy_sample(energy_sample(w, 0, 0.0));
-        res.energies.push_back(energy_sample(w, 0, 0.0));
-        // Bonds (suction/cementation, moisture dependent) form on the consolidated fabric.
-        sp.install_soil_bonds();
+        // ---- generation and isotropic consolidation ------------------------------
+        // The creep test runs on a second specimen built identically (same seed): the
+        // lab's q_f comes from a companion shear test, the graded creep loading starts
+        // from the isotropic state (paper, "Scheme of Creep Test").
+        auto consolidated = [&](bool report) {
+            obs.stage_changed("generation", 0, 0.0, 0.0);
+            prog.report("generation", 0, 0.0);
+            auto sp = std::make_unique<Specimen>(scheme);
+            World& w = sp->world();
+            if (report) {
+                res.particle_count = sp->soil_count();
+                res.membrane_particle_count = sp->membrane().count();
+                res.initial_porosity = sp->porosity();
+            }
+            sp->install_test_laws();
+            sp->membrane().set_fixed(w, false);
+            const double dt = w.time_step();
+            const double k_skel = sp->soil_kn() * 8.0;  // about 8 contacts under a grain
+            const double v_max = 0.05 * sp->height() / (2000.0 * dt);
+            obs.stage_changed("consolidation", 0, 0.0, 0.0);
+            w.energy().reset_accumulated();
+            const long consolidation_start = w.step();
+            double ratio = 1.0;
+            const long max_consolidation = 400000;
+            for (long n = 0; n < max_consolidation; n += kChunk) {
+                const double area = sp->volume() / sp->height();
+                auto& top = w.plane_wall(sp->top_wall());
+                auto& bot = w.plane_wall(sp->bottom_wall());
+                top.velocity = Vec3(0, 0, -servo_velocity(sigma3, top.normal_stress(area), area, k_skel, dt, v_max));
+                bot.velocity = Vec3(0, 0, servo_velocity(sigma3, bot.normal_stress(area), area, k_skel, dt, v_max));
+                sp->cycle(kChunk, sigma3);
+                ratio = w.unbalanced_force_ratio();
+                const bool stress_ok = std::abs(sp->axial_stress() - sigma3) < kStressTolerance * sigma3;
+                if (n > 2000 && stress_ok && ratio < scheme.loading.consolidation_tolerance) break;
+                if (n % 2000 == 0) prog.report("consolidation", 0, std::min(1.0, 0.5 * n / 20000.0));
+            }
+            w.plane_wall(sp->top_wall()).velocity.setZero();
+            w.plane_wall(sp->bottom_wall()).velocity.setZero();
+            if (report) {
+                res.consolidation.unbalanced_force_ratio = ratio;
+                res.consolidation.porosity = sp->porosity();
+                res.consolidation.steps = w.step() - consolidation_start;
+                res.consolidation.achieved_sigma3_pa = sp->axial_stress();
+                obs.energy_sample(energy_sample(w, 0, 0.0));
+                res.energies.push_back(energy_sample(w, 0, 0.0));
+            }
+            // Bonds (suction/cementation, moisture dependent) form on the consolidated fabric.
+            sp->install_soil_bonds();
+            return sp;
+        };
+        auto shear_specimen = consolidated(true);
+        Specimen* spp = shear_specimen.get();
+        World* wp = &spp->world();
+        const double dt = wp->time_step();
+        const double k_skel = spp->soil_kn() * 8.0;
+        const double v_max = 0.05 * spp->height() / (2000.0 * dt);
 
         // ---- strain-controlled shear ------------------------------------------
         obs.stage_changed("shear", 0, 0.0, 0.0);
+        double q_peak = 0.0, eps_peak = 0.0;
+        const double eps_max = scheme.loading.max_axial_strain;
+        {
+        Specimen& sp = *spp;
+        World& w = *wp;
         const double h0 = sp.height(), v0 = sp.volume();
         const double p0 = std::max(sigma3, 1.0);
         const double rate = kInertialTarget * std::sqrt(p0 / sp.soil_density()) / sp.mean_diameter();
         const double seating = scheme.effects.seating_error ? scheme.effects.seating_displacement_m : 0.0;
         w.plane_wall(sp.top_wall()).velocity = Vec3(0, 0, -rate * h0);
-        const double eps_max = scheme.loading.max_axial_strain;
         const long record_every = std::max<long>(kChunk, static_cast<long>(0.002 / (rate * dt)) / kChunk * kChunk);
         long since_record = 0;
-        double q_peak = 0.0, eps_peak = 0.0;
         while (true) {
             sp.cycle(kChunk, sigma3);
             since_record += kChunk;
@@ -180,16 +198,24 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             if (q_peak > 0.0 && !res.shear.empty() && res.shear.back().q_pa < 0.8 * q_peak && eps_a > 0.02) break;
         }
         w.plane_wall(sp.top_wall()).velocity.setZero();
+        }
         res.q_failure_pa = q_peak;
         res.axial_strain_at_failure = eps_peak;
         if (last == Phase::Shear || last == Phase::Consolidation || n_stages == 0) {
-            res.total_steps = w.step();
+            res.total_steps = wp->step();
             res.wall_time_s = prog.elapsed();
             obs.stage_changed("done", 0, 0.0, 0.0);
             return res;
         }
-        // The creep test proper runs on the same specimen after unloading to sigma3
-        // (the paper's graded loading starts from the isotropic state).
+        const long shear_steps = wp->step();
+        shear_specimen.reset();
+        auto creep_specimen = consolidated(false);
+        Specimen& sp = *creep_specimen;
+        World& w = sp.world();
+        // Grain rotation accumulated over the relaxation cycles (rad): divided by the
+        // physical time between samples it is the rotation rate in physical time (the
+        // DEM spin at an equilibrium snapshot is only residual noise).
+        std::vector<Vec3> rotation(sp.soil_count(), Vec3::Zero());
         auto hold_axial = [&](double sigma1_target, long min_cycles, long max_cycles) {
             long n = 0;
             for (; n < max_cycles; n += kChunk) {
@@ -197,6 +223,8 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 auto& top = w.plane_wall(sp.top_wall());
                 top.velocity = Vec3(0, 0, -servo_velocity(sigma1_target, top.normal_stress(area), area, k_skel, dt, v_max));
                 sp.cycle(kChunk, sigma3);
+                const auto& omega = w.particles().angular_velocity;
+                for (int i = 0; i < sp.soil_count(); ++i) rotation[i] += omega[i] * (kChunk * dt);
                 if (n >= min_cycles && std::abs(sp.top_stress() - sigma1_target) < kStressTolerance * sigma1_target &&
                     w.unbalanced_force_ratio() < scheme.loading.consolidation_tolerance * 5.0)
                     break;
@@ -204,7 +232,6 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             w.plane_wall(sp.top_wall()).velocity.setZero();
             return n;
         };
-        hold_axial(sigma3, 1000, 100000);
 
         // ---- multi-stage creep in physical time --------------------------------
         creep::RateProcessParams cp;
@@ -223,28 +250,41 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         const double z_top0 = sp.top_z();
         const double H = scheme.specimen.height_m;
         // Measurement spheres on the axis at z = +0.4 H, 0, -0.4 H (+-80 mm for 200 mm),
-        // radius 0.15 D (15 mm): the paper's 5 mm holds no grain of a coarse soil; 15 mm
-        // holds some tens of grains yet stays clear of platens and membrane.
-        res.measurement_sphere_radius_m = 0.15 * scheme.specimen.diameter_m;
+        // radius max(0.15 D, 1.5 mean grain diameters) (15 mm for the paper's specimen): the
+        // paper's 5 mm holds no grain of a coarse soil; this holds some grains yet stays
+        // clear of platens and membrane.
+        res.measurement_sphere_radius_m = std::max(0.15 * scheme.specimen.diameter_m, 1.5 * sp.mean_diameter());
         std::vector<MeasurementSphere> spheres;
         for (double z : {0.4 * H, 0.0, -0.4 * H}) spheres.emplace_back(Vec3(0, 0, z), res.measurement_sphere_radius_m);
         for (auto& m : spheres) m.set_reference(w);
+        double last_sample_t = 0.0;
         auto sample_spheres = [&](double t) {
+            const double span = t - last_sample_t;
             for (int s = 0; s < 3; ++s) {
                 const auto r = spheres[s].measure(w);
+                Vec3 rot = Vec3::Zero();
+                int inside = 0;
+                for (int i = 0; i < sp.soil_count(); ++i)
+                    if ((w.particles().position[i] - spheres[s].center()).norm() <= spheres[s].radius()) {
+                        rot += rotation[i];
+                        ++inside;
+                    }
+                const Vec3 rate = (inside > 0 && span > 0.0) ? Vec3(rot / (inside * span)) : Vec3(Vec3::Zero());
                 MeasurementSample ms;
                 ms.sphere = s + 1;
                 ms.step = w.step();
                 ms.time_s = t;
                 ms.z_displacement_m = r.mean_displacement.z();
-                ms.rotation_rate_x_rad_s = r.mean_angular_velocity.x();
-                ms.rotation_rate_y_rad_s = r.mean_angular_velocity.y();
-                ms.rotation_rate_z_rad_s = r.mean_angular_velocity.z();
+                ms.rotation_rate_x_rad_s = rate.x();
+                ms.rotation_rate_y_rad_s = rate.y();
+                ms.rotation_rate_z_rad_s = rate.z();
                 ms.porosity = r.porosity;
                 ms.coordination = r.coordination;
                 res.measurements.push_back(ms);
                 obs.measurement_sample(ms);
             }
+            for (auto& r : rotation) r.setZero();
+            last_sample_t = t;
         };
         double t_total = 0.0;
         for (int k = 0; k < n_stages; ++k) {
@@ -313,13 +353,13 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             };
             const double T = t;
             const double late = at(T) - at(0.8 * T), before = at(0.8 * T) - at(0.6 * T);
-            st.accelerating = failed || (late > 1.05 * before && late > 0.02 * std::max(creep_part, 1e-12));
+            st.accelerating = failed || (late > 1.3 * before && late > 0.05 * std::max(creep_part, 1e-12));
             st.converged = !st.accelerating && (creep_part <= 0.0 || late < 0.1 * creep_part);
             res.creep_stages.push_back(st);
             t_total += t;
             if (failed) break;
         }
-        res.total_steps = w.step();
+        res.total_steps = shear_steps + w.step();
     } catch (const Progress::Cancelled&) {
         res.cancelled = true;
         res.converged = false;

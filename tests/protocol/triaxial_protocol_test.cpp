@@ -1,0 +1,180 @@
+// One test per finding of the seed paper, on reduced specimens (50 x 100 mm, ~200 grains
+// of 2.5-7.5 mm radius) and creep stages of hours instead of days. Findings the model
+// does not reproduce yet are tagged [!mayfail]: they run and report, they do not hide.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <map>
+
+#include "engine/protocol/triaxial_test.hpp"
+
+using namespace triax::protocol;
+
+namespace {
+
+TestScheme reduced(double sigma3_pa) {
+    TestScheme s;
+    s.name = "reduced";
+    s.specimen.diameter_m = 0.05;
+    s.specimen.height_m = 0.1;
+    s.gradation.r_min_m = 2.5e-3;
+    s.gradation.radius_ratio = 3.0;
+    s.loading.confining_pressure_pa = sigma3_pa;
+    s.loading.max_axial_strain = 0.08;
+    s.loading.stage_durations_s = {4 * 3600.0, 4 * 3600.0, 4 * 3600.0, 4 * 3600.0};
+    s.creep.first_increment_s = 5.0;
+    s.creep.increment_growth = 1.4;
+    s.creep.max_increment_s = 1800.0;
+    s.seed = 11;
+    return s;
+}
+
+// Results cached per confining pressure so each expensive run happens once per process.
+const TestResult& shear_run(double sigma3_pa) {
+    static std::map<double, TestResult> cache;
+    static RunObserver quiet;
+    auto it = cache.find(sigma3_pa);
+    if (it == cache.end()) it = cache.emplace(sigma3_pa, run_triaxial_test(reduced(sigma3_pa), quiet, Phase::Shear)).first;
+    return it->second;
+}
+
+const TestResult& creep_run() {
+    static const TestResult r = [] {
+        RunObserver none;
+        return run_triaxial_test(reduced(100e3), none, Phase::Creep);
+    }();
+    return r;
+}
+
+double q_at(const TestResult& r, double eps) {
+    for (const auto& p : r.shear)
+        if (p.axial_strain >= eps) return p.q_pa;
+    return r.shear.back().q_pa;
+}
+
+}  // namespace
+
+TEST_CASE("(1) higher confining pressure, higher deviator at the same strain", "[protocol][slow]") {
+    const auto& lo = shear_run(50e3);
+    const auto& hi = shear_run(200e3);
+    REQUIRE(lo.shear.size() > 5);
+    REQUIRE(hi.shear.size() > 5);
+    for (double eps : {0.02, 0.04, 0.06}) CHECK(q_at(hi, eps) > q_at(lo, eps));
+    CHECK(hi.q_failure_pa > lo.q_failure_pa);
+    CHECK(lo.max_inertial_number <= 1e-3);
+    CHECK(lo.consolidation.unbalanced_force_ratio < 0.05);
+}
+
+TEST_CASE("(2a) at 50 kPa the specimen contracts, then dilates", "[protocol][slow]") {
+    const auto& r = shear_run(50e3);
+    double max_contraction = -1.0;
+    for (const auto& p : r.shear) max_contraction = std::max(max_contraction, p.volumetric_strain);
+    CHECK(max_contraction > 0.0);                                   // contraction first
+    CHECK(r.shear.back().volumetric_strain < max_contraction);      // then dilation
+}
+
+TEST_CASE("(2b) at 200 kPa the specimen contracts throughout", "[protocol][slow][!mayfail]") {
+    const auto& r = shear_run(200e3);
+    CHECK(r.shear.back().volumetric_strain > 0.0);
+}
+
+TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
+    const auto& r = creep_run();
+    REQUIRE(r.creep_stages.size() == 4);
+    const auto& s1 = r.creep_stages[0];
+    CHECK(s1.converged);
+    CHECK(s1.stress_level == Approx(0.1).epsilon(0.05));
+    // Creep (deformation after loading) grows with the stress level.
+    auto creep_of = [](const CreepStageResult& s) { return s.final_deformation_m - s.instant_deformation_m; };
+    CHECK(creep_of(r.creep_stages[3]) > creep_of(r.creep_stages[0]));
+    // Stage curves are coordinate-translated: each starts at t = 0.
+    for (const auto& s : r.creep_stages) CHECK(s.translated.front().time_s == 0.0);
+}
+
+TEST_CASE("(3b) the paper's thresholds: S=0.1 elastic >= 90 %, S=0.8 accelerating", "[protocol][slow][!mayfail]") {
+    const auto& r = creep_run();
+    REQUIRE(r.creep_stages.size() == 4);
+    CHECK(r.creep_stages[0].elastic_share >= 0.9);
+    CHECK(r.creep_stages[1].converged);
+    CHECK(r.creep_stages[2].converged);
+    CHECK(r.creep_stages[3].accelerating);
+}
+
+TEST_CASE("(4) share of a stage's creep reached in its first 30 min is reported", "[protocol][slow]") {
+    const auto& r = creep_run();
+    for (const auto& s : r.creep_stages) {
+        CHECK(s.share_in_first_30min >= 0.0);
+        CHECK(s.share_in_first_30min <= 1.0);
+    }
+    // Decelerating creep: most of the low-level stage's creep happens early.
+    CHECK(r.creep_stages[0].share_in_first_30min > 0.5);
+}
+
+TEST_CASE("(5) strain energy rises then flattens, higher at higher sigma3", "[protocol][slow]") {
+    const auto& r = creep_run();
+    std::vector<double> e;
+    for (const auto& s : r.energies)
+        if (s.phase_index == 2 + 1) e.push_back(s.strain_j);  // creep stage 2
+    REQUIRE(e.size() > 6);
+    // Flattens: over the second half of the stage it changes by under 10 %.
+    const std::size_t n = e.size();
+    CHECK(std::abs(e[n - 1] - e[n / 2]) < 0.1 * e[n - 1]);
+    // Rises: stored energy grows with the stage load (stage 1 -> stage 4).
+    double e1 = 0, e4 = 0;
+    for (const auto& s : r.energies) {
+        if (s.phase_index == 2) e1 = s.strain_j;
+        if (s.phase_index == 5) e4 = s.strain_j;
+    }
+    CHECK(e4 > e1);
+    auto last_shear_strain = [](const TestResult& t) {
+        double v = 0;
+        for (const auto& s : t.energies)
+            if (s.phase_index == 1) v = s.strain_j;
+        return v;
+    };
+    CHECK(last_shear_strain(shear_run(200e3)) > last_shear_strain(shear_run(50e3)));
+}
+
+TEST_CASE("(6, 7) slip and damping energy grow fast early in a creep stage, then level", "[protocol][slow]") {
+    const auto& r = creep_run();
+    for (int phase : {3, 4}) {
+        std::vector<const EnergySample*> e;
+        for (const auto& s : r.energies)
+            if (s.phase_index == phase) e.push_back(&s);
+        REQUIRE(e.size() > 6);
+        // Per unit physical time, growth early >> growth late.
+        const auto& a = *e[1];
+        const auto& b = *e[e.size() / 3];
+        const auto& c = *e[e.size() - 2];
+        const auto& d = *e.back();
+        const double slip_early = (b.slip_j - a.slip_j + b.creep_j - a.creep_j) / (b.time_s - a.time_s);
+        const double slip_late = (d.slip_j - c.slip_j + d.creep_j - c.creep_j) / (d.time_s - c.time_s);
+        CHECK(slip_late < slip_early);
+        CHECK(d.slip_j + d.creep_j >= a.slip_j + a.creep_j);
+        const double damp_early = (b.damping_j - a.damping_j) / (b.time_s - a.time_s);
+        const double damp_late = (d.damping_j - c.damping_j) / (d.time_s - c.time_s);
+        CHECK(damp_late < damp_early);
+        CHECK(d.damping_j >= a.damping_j);
+    }
+}
+
+TEST_CASE("(8) measurement-sphere rotation rates decay as creep stabilises", "[protocol][slow]") {
+    const auto& r = creep_run();
+    REQUIRE(!r.measurements.empty());
+    CHECK(r.measurement_sphere_radius_m > 0.0);
+    // Stage 2: mean |rotation rate| in physical time over the three spheres, first
+    // samples vs last samples.
+    std::vector<double> rate;
+    for (const auto& m : r.measurements) {
+        // Strictly inside the stage: the readings at its two ends are shared with the
+        // neighbouring stages' load steps.
+        if (m.time_s <= r.creep_stages[1].start_time_s || m.time_s >= r.creep_stages[1].start_time_s + r.creep_stages[1].duration_s)
+            continue;
+        rate.push_back(std::abs(m.rotation_rate_x_rad_s) + std::abs(m.rotation_rate_y_rad_s) + std::abs(m.rotation_rate_z_rad_s));
+    }
+    REQUIRE(rate.size() >= 9);
+    const double early = rate[0] + rate[1] + rate[2];
+    CHECK(early > 0.0);
+    const double late = rate[rate.size() - 1] + rate[rate.size() - 2] + rate[rate.size() - 3];
+    CHECK(late < early);
+}
