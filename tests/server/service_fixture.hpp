@@ -92,7 +92,7 @@ class TestServer {
 public:
     explicit TestServer(service::RunExecutor executor, std::filesystem::path dir = {}, int workers = 1,
                         int queue_limit = 8)
-        : dir_(dir.empty() ? make_temp_dir("srv") : dir) {
+        : dir_(dir.empty() ? make_temp_dir("srv") : dir), owns_dir_(dir.empty()) {
         service::ServiceConfig cfg;
         cfg.host = "127.0.0.1";
         cfg.port = 0;
@@ -104,7 +104,13 @@ public:
         service_ = std::make_unique<service::Service>(cfg, std::move(executor));
         port_ = service_->start_background();
     }
-    ~TestServer() { stop(); }
+    ~TestServer() {
+        stop();
+        if (owns_dir_) {
+            std::error_code ec;
+            std::filesystem::remove_all(dir_, ec);
+        }
+    }
     void stop() {
         if (service_) service_->stop();
         service_.reset();
@@ -188,6 +194,7 @@ private:
         return out;
     }
     std::filesystem::path dir_;
+    bool owns_dir_ = false;
     std::unique_ptr<service::Service> service_;
     int port_ = 0;
 };
