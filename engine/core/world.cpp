@@ -109,16 +109,22 @@ void World::update_clump_members(Clump& c) {
 
 void World::set_default_contact_law(const ContactLaw& law) {
     laws_.set_default(law);
-    resolved_laws_.clear();
-    resolved_keys_.clear();
-    need_rebuild_ = true;
+    refresh_resolved_laws();
 }
 
 void World::set_contact_law(int group_a, int group_b, const ContactLaw& law) {
     laws_.set(group_a, group_b, law);
-    resolved_laws_.clear();
-    resolved_keys_.clear();
-    need_rebuild_ = true;
+    refresh_resolved_laws();
+}
+
+// Existing contacts keep their law index; the parameters behind it are refreshed, so
+// contact_law_of() stays valid between a law change and the next step.
+void World::refresh_resolved_laws() {
+    any_rolling_ = false;
+    for (std::size_t k = 0; k < resolved_keys_.size(); ++k) {
+        resolved_laws_[k] = laws_.get(resolved_keys_[k].first, resolved_keys_[k].second);
+        if (resolved_laws_[k].rolling_friction > 0.0) any_rolling_ = true;
+    }
 }
 
 int World::law_index(int a, int b) {
@@ -169,7 +175,6 @@ void World::ensure_ready() {
     inertial_inertia_.resize(n);
     stiffness_sum_.resize(n);
     rot_stiffness_sum_.resize(n);
-    if (resolved_laws_.empty()) any_rolling_ = false;
 }
 
 // Rebuilds the candidate pair list and merges the old history into it by key.

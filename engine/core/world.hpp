@@ -132,6 +132,7 @@ private:
     void ensure_ready();
     void rebuild_neighbors();
     int law_index(int group_a, int group_b);
+    void refresh_resolved_laws();
     void compute_contact_forces();
     void gather_and_integrate();
     void integrate_clumps();
