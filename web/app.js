@@ -108,9 +108,16 @@ function showRuns() {
 
 // ---- Activity line (progress of active runs on every page) ------------------------------
 
+let activityTimer = null, activitySeq = 0;
+
+// Polled every 2 s, and at once on every navigation so no page shows a stale line. The
+// sequence number keeps a single polling chain when a navigation overlaps a poll.
 async function pollActivity() {
+  clearTimeout(activityTimer);
+  const seq = ++activitySeq;
   try {
     const [{ runs }, { diagnoses }] = await Promise.all([getJSON('/runs'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
+    if (seq !== activitySeq) return;
     const isActive = x => x.status === 'running' || x.status === 'queued';
     const items = [
       ...runs.filter(isActive).map(r =>
@@ -120,7 +127,7 @@ async function pollActivity() {
     ];
     activity.replaceChildren(...(items.length ? items : [el('span', { class: 'hint' }, 'no active runs or diagnoses')]));
   } catch { activity.replaceChildren(el('span', { class: 'error' }, 'service unreachable')); }
-  setTimeout(pollActivity, 3000);
+  if (seq === activitySeq) activityTimer = setTimeout(pollActivity, 2000);
 }
 
 // ---- Router ----------------------------------------------------------------------------
@@ -128,6 +135,7 @@ async function pollActivity() {
 async function route() {
   if (current && current.close) current.close();
   current = null;
+  pollActivity();
   const hash = location.hash || '#/new';
   for (const a of document.querySelectorAll('nav a')) a.classList.toggle('active', hash.startsWith(a.getAttribute('href')));
   const m = hash.match(/^#\/runs\/(\d+)/);
@@ -141,4 +149,3 @@ async function route() {
 window.addEventListener('hashchange', route);
 getJSON('/health').then(h => { document.getElementById('version').textContent = `triaxd ${h.version || ''}`; }).catch(() => {});
 route();
-pollActivity();
