@@ -110,7 +110,8 @@ export class CompareView {
     } catch (e) {
       const p = e instanceof ProblemError ? e.problem : {};
       const where = [p.line != null ? `line ${p.line}` : '', p.column != null ? `column ${p.column}` : ''].filter(Boolean).join(', ');
-      this.uploadError.textContent = `${file.name}${where ? ' ' + where : ''}: ${e.message}`;
+      const said = p.line != null && new RegExp(`line ${p.line}\\b`).test(e.message); // detail may already name it
+      this.uploadError.textContent = `${file.name}${where && !said ? ' ' + where : ''}: ${e.message}`;
     }
   }
 

@@ -186,6 +186,15 @@ try {
 
   await page.goto(`${base}/#/compare`);
   await page.waitForSelector('#dataset-file');
+  // A broken file first: the 422 must name the line (and column) at fault.
+  const badPath = path.join(tmp, 'broken.csv');
+  fs.writeFileSync(badPath, 'kind,stage,confining_kPa,axial_strain_pct,q_kPa\nshear,,100,0.1,50\nshear,,100,abc,60\n');
+  await page.setInputFiles('#dataset-file', badPath);
+  await page.click('#upload-button');
+  await page.waitForFunction(() => document.querySelector('#upload-error')?.textContent.length > 0, null, { timeout: 15000 });
+  const badText = await page.textContent('#upload-error');
+  check(/line 3/.test(badText), `a broken upload shows its line: "${badText}"`);
+
   await page.setInputFiles('#dataset-file', labPath);
   await page.fill('#dataset-name', 'browser-test lab');
   await page.click('#upload-button');
