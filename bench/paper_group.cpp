@@ -3,6 +3,7 @@
 // with the paper's gradation (Rmin 0.5 mm, Rmax/Rmin 39.712). Reports wall time, particle
 // counts and the summary. Usage: paper_group [A|B|C|D|E] [threads] [out.json]
 #include <chrono>
+#include <exception>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -17,7 +18,14 @@ int main(int argc, char** argv) {
     if (argc > 2) scheme.threads = std::stoi(argv[2]);
     triax::protocol::RunObserver quiet;
     const auto t0 = std::chrono::steady_clock::now();
-    const auto r = triax::protocol::run_triaxial_test(scheme, quiet);
+    triax::protocol::TestResult r;
+    try {
+        r = triax::protocol::run_triaxial_test(scheme, quiet);
+    } catch (const std::exception& e) {
+        std::printf("group %s failed after %.1f s: %s\n", group.c_str(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), e.what());
+        return 1;
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("group %s: soil particles %d, membrane particles %d, total steps %ld, wall time %.1f s (threads %d)\n",
                 group.c_str(), r.particle_count, r.membrane_particle_count, r.total_steps, wall, scheme.threads);

@@ -86,7 +86,7 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
 
     // Radius expansion to full size, frictionless, inside the held membrane.
     auto& p = world_.particles();
-    constexpr int kGrowthSteps = 8;
+    constexpr int kGrowthSteps = 16;
     for (int k = 1; k <= kGrowthSteps; ++k) {
         const double f = (kShrink + (1.0 - kShrink) * k / kGrowthSteps) / (kShrink + (1.0 - kShrink) * (k - 1) / kGrowthSteps);
         for (int q = 0; q < soil_count_; ++q) {
@@ -95,7 +95,7 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
             p.inertia[q] *= f * f * f * f * f;
         }
         world_.invalidate_neighbors();
-        world_.cycle(400);
+        world_.cycle(300);
     }
     for (int k = 0; k < 40 && world_.unbalanced_force_ratio() > 0.01; ++k) world_.cycle(250);
 }
@@ -112,8 +112,9 @@ ContactLaw Specimen::soil_law(bool friction_on) const {
 
 void Specimen::set_laws(bool friction_on) {
     world_.set_contact_law(kSoilGroup, kSoilGroup, soil_law(friction_on));
-    ContactLaw sm;  // soil on membrane: a soft latex skin, frictionless
-    sm.kn = sm.ks = std::min(soil_kn_, 10.0 * scheme_.micro.membrane_stiffness_n_m);
+    ContactLaw sm;  // soil on membrane: a soft latex skin, frictionless; during generation
+    // (membrane held) as stiff as a grain so that growing grains cannot push through it.
+    sm.kn = friction_on ? std::min(soil_kn_, 10.0 * scheme_.micro.membrane_stiffness_n_m) : soil_kn_;
     sm.ks = 0.0;
     sm.friction = 0.0;
     world_.set_contact_law(kSoilGroup, kMembraneGroup, sm);
