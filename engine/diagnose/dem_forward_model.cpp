@@ -178,6 +178,14 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
         LabCurve sh;
         sh.kind = CurveKind::Shear;
         sh.confining_pa = k.confining_pa;
+        // The protocol records from the first shear chunk on; the start of shear (isotropic
+        // state: no strain, no deviator, no volume change) is part of the curve, and lab
+        // readings taken before the first chunk must not fall outside the model's range.
+        if (r.shear.empty() || r.shear.front().axial_strain > 0.0) {
+            sh.axial_strain.push_back(0.0);
+            sh.deviator_pa.push_back(0.0);
+            sh.volumetric_strain.push_back(0.0);
+        }
         for (const auto& p : r.shear) {
             sh.axial_strain.push_back(p.axial_strain);
             sh.deviator_pa.push_back(p.q_pa);

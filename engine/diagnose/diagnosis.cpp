@@ -57,6 +57,7 @@ public:
     }
 
     DiagnosisReport run();
+    std::vector<CandidateResult> rank_at(const std::vector<double>& base_values);
 
 private:
     std::vector<ParameterSpec> specs_of(const Variant& v) const {
@@ -409,7 +410,43 @@ DiagnosisReport Loop::run() {
     return rep;
 }
 
+// Signature ranking at a given base point (no calibration): residual there, a forward-
+// difference Jacobian (k runs), one run per physical effect.
+std::vector<CandidateResult> Loop::rank_at(const std::vector<double>& base_values) {
+    if (base_values.size() != base_specs_.size())
+        throw std::invalid_argument("rank_effects: expected " + std::to_string(base_specs_.size()) + " base values, got " +
+                                    std::to_string(base_values.size()));
+    Fit at{Variant{}, base_specs_, {}, 0.0};
+    for (std::size_t j = 0; j < base_specs_.size(); ++j) at.cal.best.push_back(to_unit(base_specs_[j], base_values[j]));
+    stage_ = "signatures";
+    auto r0 = evaluate(at.variant, {at.cal.best});
+    if (r0[0].empty()) throw std::runtime_error("rank_effects: the model run at the given point failed");
+    at.cal.residual = r0[0];
+    at.cal.rss = residual_sum_of_squares(at.cal.residual);
+    finite_difference_jacobian(at);
+    std::vector<CandidateResult> out;
+    for (const auto& [e, specs] : effect_specs_) {
+        Variant v;
+        v.effects.push_back(e);
+        auto r = evaluate(v, {extended(at.cal.best, e)});
+        CandidateResult c;
+        c.effect = std::string(effect_name(e));
+        c.signature_score = r[0].empty() ? 0.0 : score_signature(at, r[0]);
+        if (r[0].empty()) c.note = "signature run failed";
+        out.push_back(c);
+    }
+    std::stable_sort(out.begin(), out.end(), [](auto& a, auto& b) { return a.signature_score > b.signature_score; });
+    return out;
+}
+
 }  // namespace
+
+std::vector<CandidateResult> rank_effects(const LabDataset& lab, const ForwardModel& model,
+                                          const std::vector<double>& base_values, const DiagnoseOptions& options,
+                                          DiagnoseObserver& observer) {
+    Loop loop(lab, model, options, observer);
+    return loop.rank_at(base_values);
+}
 
 DiagnosisReport run_diagnosis(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& options,
                               DiagnoseObserver& observer) {

@@ -117,6 +117,14 @@ struct DiagnosisCancelled : std::exception {
 DiagnosisReport run_diagnosis(const LabDataset& lab, const ForwardModel& model,
                               const DiagnoseOptions& options, DiagnoseObserver& observer);
 
+// Step 2 alone, without calibration: the catalog ranked by signature score at the given
+// base parameter values (SI, ordered as model.base_parameters()). Costs 1 + k + (number of
+// physical effects) model runs. For a quick "what is missing here" and for tests on
+// engine data where a whole loop is too slow.
+std::vector<CandidateResult> rank_effects(const LabDataset& lab, const ForwardModel& model,
+                                          const std::vector<double>& base_values, const DiagnoseOptions& options,
+                                          DiagnoseObserver& observer);
+
 // The product entry point: the forward model is the DEM triaxial protocol built on `base`.
 DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base,
                               const DiagnoseOptions& options, DiagnoseObserver& observer);

@@ -184,3 +184,17 @@ TEST_CASE("bad options are rejected before any run", "[diagnose][loop]") {
     CHECK_THROWS_WITH(run_diagnosis(lab, model, opt, rec), Catch::Contains("budget_runs"));
     CHECK(rec.progress_calls == 0);
 }
+
+TEST_CASE("rank_effects at the true base point puts the hidden effect first", "[diagnose][loop]") {
+    AnalyticTriaxialModel model;
+    SyntheticLabOptions lo;
+    lo.seating_strain = 0.0;
+    const LabDataset lab = make_synthetic_lab(model, {kTruth, {{Effect::BondDegradation, {1.0}}}}, lo);
+    Recorder rec;
+    const auto ranked = rank_effects(lab, model, kTruth, DiagnoseOptions{}, rec);
+    REQUIRE(ranked.size() == 6);
+    CHECK(ranked.front().effect == "bond_degradation");
+    CHECK(ranked.front().signature_score > 0.5);
+    CHECK(ranked[1].signature_score < ranked.front().signature_score);
+    CHECK_THROWS_WITH(rank_effects(lab, model, {1.0}, DiagnoseOptions{}, rec), Catch::Contains("base values"));
+}
