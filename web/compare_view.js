@@ -45,7 +45,7 @@ export class CompareView {
     this.datasetTable = el('table', { class: 'grid', id: 'dataset-table' });
     this.runSelect = el('select', { id: 'compare-run' });
     this.datasetSelect = el('select', { id: 'compare-dataset' });
-    this.compareError = el('div', { class: 'field-error', role: 'alert' });
+    this.compareError = el('div', { class: 'field-error', id: 'comparison-error', role: 'alert' });
     const pick = el('section', { class: 'card' },
       el('h3', {}, 'Compare a run with a dataset'),
       el('div', { class: 'row' }, el('label', {}, 'run ', this.runSelect), el('label', {}, 'dataset ', this.datasetSelect),
@@ -69,9 +69,13 @@ export class CompareView {
       el('section', { class: 'card' }, el('h3', {}, 'Datasets'), this.datasetTable), pick, result);
   }
 
+  // Overlapping refreshes (page load, then an upload) must not let the older answer
+  // overwrite the newer lists.
   async refreshLists() {
+    const seq = this.listSeq = (this.listSeq || 0) + 1;
     try {
       const [{ runs }, { datasets }] = await Promise.all([getJSON('/runs'), getJSON('/datasets')]);
+      if (seq !== this.listSeq) return;
       const keepRun = this.runSelect.value, keepSet = this.datasetSelect.value;
       this.runSelect.replaceChildren(...runs.map(r => el('option', { value: r.id }, `#${r.id} ${r.name || ''} (${r.status})`)));
       const firstDone = runs.find(r => r.status === 'done');

@@ -55,8 +55,10 @@ export class DiagnosisView {
   }
 
   async refreshLists() {
+    const seq = this.listSeq = (this.listSeq || 0) + 1; // only the newest answer counts
     try {
       const [{ runs }, { datasets }, diag] = await Promise.all([getJSON('/runs'), getJSON('/datasets'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
+      if (seq !== this.listSeq) return;
       this.runSelect.replaceChildren(...runs.filter(r => r.scheme_id != null)
         .map(r => el('option', { value: r.scheme_id }, `#${r.id} ${r.name || ''} (scheme ${r.scheme_id})`)));
       this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
