@@ -70,8 +70,10 @@ export class RunView {
   }
 
   async refreshStatus() {
+    const seq = this.statusSeq = (this.statusSeq || 0) + 1; // an older answer must not undo a newer one
     try {
       const run = await getJSON(`/runs/${this.id}`);
+      if (seq !== this.statusSeq) return;
       this.renderHeader(run);
       if (run.status === 'done') this.loadSummary();
     } catch (e) { this.header.replaceChildren(el('span', { class: 'error' }, e.message)); }
