@@ -112,9 +112,10 @@ ContactLaw Specimen::soil_law(bool friction_on) const {
 
 void Specimen::set_laws(bool friction_on) {
     world_.set_contact_law(kSoilGroup, kSoilGroup, soil_law(friction_on));
-    ContactLaw sm;  // soil on membrane: a soft latex skin, frictionless; during generation
-    // (membrane held) as stiff as a grain so that growing grains cannot push through it.
-    sm.kn = friction_on ? std::min(soil_kn_, 10.0 * scheme_.micro.membrane_stiffness_n_m) : soil_kn_;
+    ContactLaw sm;  // soil on membrane, frictionless. The membrane's flexibility is in its
+    // bonds; the grain-membrane contact is as stiff as a grain contact so that grains
+    // cannot be pushed through the membrane layer (a soft contact let small grains escape).
+    sm.kn = soil_kn_;
     sm.ks = 0.0;
     sm.friction = 0.0;
     world_.set_contact_law(kSoilGroup, kMembraneGroup, sm);
