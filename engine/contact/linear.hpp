@@ -70,7 +70,7 @@ struct LinearContact {
     }
 
     template <bool kRolling>
-    static inline Outcome evaluate(const Params& p, const Kinematics& k, History& h) {
+    [[gnu::always_inline]] static inline Outcome evaluate(const Params& p, const Kinematics& k, History& h) {
         Outcome out;
         const bool was_bonded = h.bonded && *h.bonded;
         if (!was_bonded && k.overlap <= 0.0) {
