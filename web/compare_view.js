@@ -106,11 +106,12 @@ export class CompareView {
     try {
       const text = await file.text();
       const res = await postRaw(`/datasets?${params}`, text, CONTENT_TYPES[format] || 'text/csv');
-      this.uploadInfo.textContent = `dataset #${res.id} "${res.name}": ` +
-        (res.curves || []).map(c => `${c.kind}${c.stage != null ? ' ' + c.stage : ''} (${c.points} points)`).join(', ');
-      this.uploadInfo.dataset.datasetId = res.id;
+      // The lists first, then the message: once the message shows, the new dataset can be picked.
       await this.refreshLists();
       this.datasetSelect.value = String(res.id);
+      this.uploadInfo.dataset.datasetId = res.id;
+      this.uploadInfo.textContent = `dataset #${res.id} "${res.name}": ` +
+        (res.curves || []).map(c => `${c.kind}${c.stage != null ? ' ' + c.stage : ''} (${c.points} points)`).join(', ');
     } catch (e) {
       const p = e instanceof ProblemError ? e.problem : {};
       const where = [p.line != null ? `line ${p.line}` : '', p.column != null ? `column ${p.column}` : ''].filter(Boolean).join(', ');

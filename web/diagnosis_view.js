@@ -18,6 +18,11 @@ function table(id, cols, rows, headers = cols) {
 const paramText = ps => (ps || []).map(p => `${p.name} = ${num(p.value)}${p.unit ? ' ' + p.unit : ''}${p.std != null ? ' ± ' + num(p.std) : ''}`).join('; ');
 const ACTIVE = new Set(['queued', 'running']);
 
+// The request limits of POST /datasets/{id}/diagnose, as the server validates them
+// (diagnose_options_from_json in server/io/diagnosis_json.cpp; GET /openapi.json does not
+// carry them). The browser test sends values just outside them and expects the 422.
+export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53] };
+
 export class DiagnosisView {
   constructor(container) {
     this.container = container;
@@ -31,10 +36,16 @@ export class DiagnosisView {
   build() {
     this.datasetSelect = el('select', { id: 'diagnose-dataset' });
     this.runSelect = el('select', { id: 'diagnose-run' });
-    this.budget = el('input', { type: 'number', id: 'diagnose-budget', value: 24, min: 4, max: 400, step: 1 });
-    this.maxParticles = el('input', { type: 'number', id: 'diagnose-max-particles', value: 0, min: 0, step: 1, title: '0 = as in the scheme' });
-    this.seed = el('input', { type: 'number', id: 'diagnose-seed', value: 1, min: 0, step: 1 });
-    this.error = el('div', { class: 'field-error', role: 'alert' });
+    this.fields = {};
+    const field = (key, label, unit, value, title) => {
+      const [min, max] = LIMITS[key];
+      const input = el('input', { type: 'number', id: `diagnose-${key.replace(/_/g, '-')}`, value, min, max, step: 1, title });
+      const error = el('span', { class: 'field-error', id: `diagnose-${key.replace(/_/g, '-')}-error`, role: 'alert' });
+      this.fields[key] = { input, error };
+      return el('label', { class: 'diagnose-option' }, `${label}${unit ? ' (' + unit + ')' : ''} `, input,
+        el('span', { class: 'limits' }, ` ${min}…${max}`), error);
+    };
+    this.error = el('div', { class: 'field-error', id: 'diagnose-error', role: 'alert' });
     this.progress = el('div', { id: 'diagnosis-progress' }, el('span', { class: 'hint' }, 'no diagnosis selected'));
     this.candidates = el('div', { id: 'diagnosis-candidates' });
     this.report = el('div', { id: 'diagnosis-report' });
@@ -42,11 +53,12 @@ export class DiagnosisView {
     this.container.replaceChildren(
       el('h2', {}, 'Diagnosis'),
       el('section', { class: 'card' },
-        el('p', { class: 'hint' }, 'Calibrates the base model and each candidate test effect (seating, membrane compliance, rolling resistance, breakage, ...) against the dataset and ranks them by BIC with an effective number of readings. The scheme is taken from the chosen run. Each candidate costs DEM runs: the budget bounds them.'),
+        el('p', { class: 'hint' }, 'Calibrates the base model to the dataset, then ranks the candidate effects (rolling resistance, grain breakage, seating error, membrane compliance, ...) by their residual signature, fits the best ones as augmented models and keeps one only if it lowers BIC (with an effective number of readings). The scheme is taken from the chosen run. The budget bounds the calibration runs; each candidate costs further DEM runs.'),
         el('div', { class: 'row' },
           el('label', {}, 'dataset ', this.datasetSelect), el('label', {}, 'scheme of run ', this.runSelect),
-          el('label', {}, 'budget (runs, 4…400) ', this.budget), el('label', {}, 'max particles per run ', this.maxParticles),
-          el('label', {}, 'seed ', this.seed),
+          field('budget_runs', 'calibration budget', 'DEM runs', 24),
+          field('max_particles', 'max particles per run', '', 0, '0 = as in the scheme'),
+          field('seed', 'seed', '', 1),
           el('button', { type: 'button', id: 'diagnose-button', onclick: () => this.start() }, 'Diagnose')),
         this.error),
       el('section', { class: 'card' }, el('h3', {}, 'Progress'), this.progress, this.candidates),
@@ -74,18 +86,24 @@ export class DiagnosisView {
 
   async start() {
     this.error.textContent = '';
+    for (const f of Object.values(this.fields)) f.error.textContent = '';
     const datasetId = Number(this.datasetSelect.value);
     const schemeId = Number(this.runSelect.value);
     if (!datasetId || !schemeId) { this.error.textContent = 'pick a dataset and a run whose scheme to use'; return; }
-    const body = { scheme_id: schemeId, budget_runs: Number(this.budget.value), seed: Number(this.seed.value) };
-    if (Number(this.maxParticles.value) > 0) body.max_particles = Number(this.maxParticles.value);
+    // Out-of-limits values are sent as typed: the server is the authority and its 422
+    // lands beside the field it names.
+    const value = key => Number(this.fields[key].input.value);
+    const body = { scheme_id: schemeId, budget_runs: value('budget_runs'), seed: value('seed') };
+    if (value('max_particles') !== 0) body.max_particles = value('max_particles');
     try {
       const res = await postJSON(`/datasets/${datasetId}/diagnose`, body);
       this.follow(res.id);
       this.refreshLists();
     } catch (e) {
       const field = e.problem?.field;
-      this.error.textContent = `${field ? field + ': ' : ''}${e.message}`;
+      const target = field && this.fields[field.replace(/^\//, '')];
+      if (target) target.error.textContent = e.message;
+      else this.error.textContent = `${e.status ? e.status + ' ' : ''}${field ? field + ': ' : ''}${e.message}`;
     }
   }
 
@@ -146,14 +164,18 @@ export class DiagnosisView {
     const parts = [
       el('p', { class: 'verdict', id: 'diagnosis-verdict' }, el('strong', {}, 'Chosen effect: '), String(r.chosen_effect),
         r.effects?.length > 1 ? ` (effects: ${r.effects.join(', ')})` : '', el('br'), r.verdict || ''),
-      el('p', { class: 'hint' }, `NRMSE ${num(r.nrmse_before)} → ${num(r.nrmse_after)} · ${num(r.n_readings)} readings, ` +
+      el('p', { class: 'hint' }, `pooled NRMSE: calibrated base model ${num(r.nrmse_before)} → with the chosen effects ${num(r.nrmse_after)} · ${num(r.n_readings)} readings, ` +
         `${num(r.n_effective)} effectively independent · ${num(r.runs_used)} DEM runs`),
     ];
     if (r.parameters?.length) parts.push(el('h4', {}, 'Fitted parameters'), table('diagnosis-parameters', ['name', 'value', 'std', 'unit'], r.parameters, ['parameter', 'value', '± std', 'unit']));
     if (r.base_parameters?.length) parts.push(el('h4', {}, 'Base model parameters'), table('diagnosis-base-parameters', ['name', 'value', 'std', 'unit'], r.base_parameters, ['parameter', 'value', '± std', 'unit']));
-    const errCols = ['curve', 'phase', 'n', 'rmse', 'unit', 'nrmse'];
-    if (r.error_before?.length) parts.push(el('h4', {}, 'Error before (base model)'), table('diagnosis-before', errCols, r.error_before));
-    if (r.error_after?.length) parts.push(el('h4', {}, 'Error after (with the chosen effect)'), table('diagnosis-after', errCols, r.error_after));
+    // Each error row carries its series' lab unit (kPa, %, mm); NRMSE is relative to the
+    // lab series' range. "Before" is the base model *after* calibration, with no effect.
+    const errCols = ['curve', 'phase', 'n', e => `${num(e.rmse)} ${e.unit || ''}`.trim(), e => num(e.nrmse)];
+    const errHeads = ['curve', 'phase', 'readings', 'RMSE (unit of the series)', 'NRMSE (of the lab range)'];
+    const added = r.effects?.length ? r.effects.join(' + ') : 'no effect';
+    if (r.error_before?.length) parts.push(el('h4', {}, 'Error of the calibrated base model (before any effect is added)'), table('diagnosis-before', errCols, r.error_before, errHeads));
+    if (r.error_after?.length) parts.push(el('h4', {}, `Error after adding ${added} (recalibrated)`), table('diagnosis-after', errCols, r.error_after, errHeads));
     if (r.delta_bic) {
       parts.push(el('h4', {}, 'ΔBIC (negative favours the effect)'),
         el('p', { id: 'diagnosis-delta-bic' }, `vs base model: ${num(r.delta_bic.vs_base)}`));

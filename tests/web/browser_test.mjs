@@ -46,6 +46,7 @@ function check(cond, what) {
   else { failures++; console.error('[browser-test] FAIL', what); }
 }
 
+const getJSONFromPage = (page, url) => page.evaluate(u => fetch(u).then(r => r.json()), url);
 const points = (page, id) => page.$eval(`#${id} canvas`, c => Number(c.dataset.points || 0));
 
 const context = await chromium.launchPersistentContext(path.join(tmp, 'profile'), {
@@ -204,6 +205,7 @@ try {
   const uploadError = await page.textContent('#upload-error');
   check(!uploadError, `dataset upload accepted ${uploadError ? '(' + uploadError + ')' : ''}`);
   log('upload:', await page.textContent('#upload-info'));
+  await page.waitForSelector(`#compare-run option[value="${runId}"]`, { state: 'attached', timeout: 10000 });
   await page.selectOption('#compare-run', String(runId));
   await page.click('#compare-button');
   await page.waitForSelector('#metrics-table tr:nth-child(2)', { timeout: 30000 }).catch(() => {});
@@ -220,6 +222,21 @@ try {
   await page.goto(`${base}/#/diagnose`);
   await page.waitForSelector('#diagnose-dataset option', { state: 'attached', timeout: 10000 }).catch(() => {});
   check(await page.$$eval('#diagnose-dataset option', o => o.length) > 0, 'the diagnosis panel lists the uploaded dataset');
+  await page.waitForSelector('#diagnose-run option', { state: 'attached', timeout: 10000 }).catch(() => {});
+  // The budget limits shown on the page are the server's: just outside them the server
+  // answers 422 (no diagnosis is queued) and its message, beside the field, names them.
+  const [bMin, bMax] = await page.$eval('#diagnose-budget-runs', i => [Number(i.min), Number(i.max)]);
+  const shown = await page.textContent('#diagnose-budget-runs + .limits');
+  check(shown.includes(`${bMin}…${bMax}`), `the budget field shows its limits (${shown.trim()})`);
+  for (const value of [bMin - 1, bMax + 1]) {
+    await page.fill('#diagnose-budget-runs', String(value));
+    await page.click('#diagnose-button');
+    await page.waitForFunction(() => document.querySelector('#diagnose-budget-runs-error')?.textContent.length > 0, null, { timeout: 10000 }).catch(() => {});
+    const msg = await page.textContent('#diagnose-budget-runs-error');
+    check(msg.includes(`between ${bMin} and ${bMax}`), `budget ${value}: the server's 422 beside the field names the page's limits (${msg})`);
+  }
+  check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'out-of-limits budgets queued no diagnosis');
+  await page.fill('#diagnose-budget-runs', '24');
   await page.screenshot({ path: path.join(shots, '06_diagnosis_panel.png'), fullPage: true });
 } catch (e) {
   failures++;
