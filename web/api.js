@@ -79,7 +79,8 @@ export function progressElement(stage, pct, eta) {
   bar.max = 100; bar.value = p;
   const text = document.createElement('span');
   text.className = 'progress-text';
-  text.textContent = `${stage ? stage + ' · ' : ''}${p.toFixed(1)} % · ETA ${formatEta(eta)}`;
+  // Finished work has no ETA worth showing ("ETA 0 s" beside done reads as pending).
+  text.textContent = `${stage ? stage + ' · ' : ''}${p.toFixed(1)} %${p >= 100 ? '' : ' · ETA ' + formatEta(eta)}`;
   wrap.append(bar, text);
   return wrap;
 }

@@ -147,5 +147,8 @@ async function route() {
 }
 
 window.addEventListener('hashchange', route);
+// A view that sees a status change (e.g. the run page at `done`) refreshes the line at
+// once instead of leaving it stale for up to one polling period.
+window.addEventListener('triax-activity', () => pollActivity());
 getJSON('/health').then(h => { document.getElementById('version').textContent = `triaxd ${h.version || ''}`; }).catch(() => {});
 route();

@@ -36,7 +36,12 @@ function formatTick(v) {
   if (v === 0) return '0';
   const a = Math.abs(v);
   // Shortest exponent form that still tells neighbouring ticks apart (1.25e+5, not 1e+5).
-  if (a >= 1e5 || a < 1e-3) return Number(v.toPrecision(4)).toExponential();
+  if (a >= 1e5 || a < 1e-3) {
+    // 1.25×10⁵ rather than 1.25e+5: the form a lab report uses.
+    const [mant, exp] = Number(v.toPrecision(4)).toExponential().split('e');
+    const sup = String(Number(exp)).replace(/[-0-9]/g, c => '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'['-0123456789'.indexOf(c)]);
+    return `${mant === '1' ? '' : mant === '-1' ? '-' : mant + '×'}10${sup}`;
+  }
   return Number(v.toPrecision(6)).toString();
 }
 
@@ -154,6 +159,8 @@ export class Plot {
     ctx.fillRect(0, 0, cssWidth, cssHeight);
     canvas.dataset.points = String(this.pointCount());
     canvas.dataset.series = String(this.series.size);
+    // Points drawn on the current axes (a log axis leaves out t <= 0).
+    canvas.dataset.visible = String([...this.series.values()].reduce((n, s) => n + this.visiblePoints(s).length, 0));
 
     const m = { left: 64, right: 14, top: 12, bottom: 44 };
     const w = cssWidth - m.left - m.right, h = cssHeight - m.top - m.bottom;
@@ -221,21 +228,30 @@ export class Plot {
     ctx.restore();
     ctx.setLineDash([]);
 
-    // Legend in the top-left corner of the frame.
+    // Legend in the frame corner that hides the fewest data points (a fixed corner hid
+    // the start of the energy curves).
     if (this.series.size > 0) {
       const names = [...this.series.values()];
       const lw = Math.min(w - 10, 16 + Math.max(...names.map(s => ctx.measureText(s.name).width)) + 14);
       const lh = 16 * names.length + 6;
+      const corners = [[m.left + 6, m.top + 6], [m.left + w - 6 - lw, m.top + 6],
+        [m.left + w - 6 - lw, m.top + h - 6 - lh], [m.left + 6, m.top + h - 6 - lh]];
+      const hidden = ([cx, cy]) => names.reduce((n, s) => n + this.visiblePoints(s).filter(([x, y]) => {
+        const px = sx(x), py = sy(y);
+        return px >= cx && px <= cx + lw && py >= cy && py <= cy + lh;
+      }).length, 0);
+      let [lx, ly] = corners[0], least = hidden(corners[0]);
+      for (const c of corners.slice(1)) { const k = hidden(c); if (k < least) { least = k; [lx, ly] = c; } }
       ctx.fillStyle = 'rgba(255,255,255,0.85)';
-      ctx.fillRect(m.left + 6, m.top + 6, lw, lh);
+      ctx.fillRect(lx, ly, lw, lh);
       ctx.textAlign = 'left';
       names.forEach((s, i) => {
-        const y = m.top + 6 + 14 + i * 16;
+        const y = ly + 14 + i * 16;
         ctx.strokeStyle = s.color; ctx.fillStyle = s.color;
-        if (s.style === 'points') { ctx.beginPath(); ctx.arc(m.left + 18, y - 4, 3, 0, 2 * Math.PI); ctx.fill(); }
-        else { ctx.setLineDash(s.dash || []); ctx.beginPath(); ctx.moveTo(m.left + 11, y - 4); ctx.lineTo(m.left + 25, y - 4); ctx.stroke(); ctx.setLineDash([]); }
+        if (s.style === 'points') { ctx.beginPath(); ctx.arc(lx + 12, y - 4, 3, 0, 2 * Math.PI); ctx.fill(); }
+        else { ctx.setLineDash(s.dash || []); ctx.beginPath(); ctx.moveTo(lx + 5, y - 4); ctx.lineTo(lx + 19, y - 4); ctx.stroke(); ctx.setLineDash([]); }
         ctx.fillStyle = '#222';
-        ctx.fillText(s.name, m.left + 30, y);
+        ctx.fillText(s.name, lx + 24, y);
       });
     }
   }

@@ -19,6 +19,7 @@ export class RunView {
     this.onLeave = onLeave;
     this.source = null;
     this.measurements = []; // raw measurement events, re-plotted when the quantity changes
+    this.stageLevels = {};  // creep stage -> stress level, from the `stage` events
     this.build();
     this.refreshStatus();
     this.connect();
@@ -38,9 +39,13 @@ export class RunView {
       grid, this.summaryBox);
     this.qPlot = new Plot(grid, { id: 'plot-q', title: 'Deviator stress vs axial strain', xLabel: 'axial strain (%)', yLabel: 'q (kPa)', fileName: `run${id}_q` });
     this.vPlot = new Plot(grid, { id: 'plot-vol', title: 'Volumetric vs axial strain (contraction +)', xLabel: 'axial strain (%)', yLabel: 'volumetric strain (%)', fileName: `run${id}_volumetric` });
-    this.creepPlot = new Plot(grid, { id: 'plot-creep', title: 'Creep per stage (coordinate-translated)', xLabel: 'time (min)', yLabel: 'axial deformation (mm)', xLogAllowed: true, fileName: `run${id}_creep` });
-    this.energyPlot = new Plot(grid, { id: 'plot-energy', title: 'Energies', xLabel: 'step', yLabel: 'energy (J)', fileName: `run${id}_energies` });
-    this.measurePlot = new Plot(grid, { id: 'plot-measure', title: 'Measurement spheres', xLabel: 'step', yLabel: axisLabel(MEASURE_KEYS[0]), fileName: `run${id}_measurements` });
+    // Creep on linear and on log time side by side: the linear plot shows the instant
+    // deformation and the steady rate, the log plot the primary (log-time) part. Time is
+    // from the start of each stage (coordinate-translated); the log axis leaves out t = 0.
+    this.creepPlot = new Plot(grid, { id: 'plot-creep', title: 'Creep per stage, linear time (from stage start)', xLabel: 'time since stage start (min)', yLabel: 'axial deformation (mm)', xLogAllowed: true, fileName: `run${id}_creep` });
+    this.creepLogPlot = new Plot(grid, { id: 'plot-creep-log', title: 'Creep per stage, log time (from stage start)', xLabel: 'time since stage start (min, log)', yLabel: 'axial deformation (mm)', xLog: true, xLogAllowed: true, fileName: `run${id}_creep_log` });
+    this.energyPlot = new Plot(grid, { id: 'plot-energy', title: 'Energies', xLabel: 'mechanical step (cumulative over phases)', yLabel: 'energy (J)', fileName: `run${id}_energies` });
+    this.measurePlot = new Plot(grid, { id: 'plot-measure', title: 'Measurement spheres', xLabel: 'mechanical step', yLabel: axisLabel(MEASURE_KEYS[0]), fileName: `run${id}_measurements` });
     this.measureKey = MEASURE_KEYS[0];
     const pick = el('select', { class: 'measure-quantity' }, MEASURE_KEYS.map(k => el('option', { value: k }, axisLabel(k))));
     pick.addEventListener('change', () => { this.measureKey = pick.value; this.replotMeasurements(); });
@@ -74,6 +79,11 @@ export class RunView {
     try {
       const run = await getJSON(`/runs/${this.id}`);
       if (seq !== this.statusSeq) return;
+      // Once the server says the run is over, the header's activity line is refreshed at once.
+      if (!['queued', 'running'].includes(run.status) && !this.activityNotified) {
+        this.activityNotified = true;
+        window.dispatchEvent(new Event('triax-activity'));
+      }
       this.renderHeader(run);
       if (run.status === 'done') this.loadSummary();
     } catch (e) { this.header.replaceChildren(el('span', { class: 'error' }, e.message)); }
@@ -93,12 +103,20 @@ export class RunView {
     });
     on('status', d => { if (this.run) this.renderHeader(Object.assign({}, this.run, d)); });
     on('progress', d => { if (this.run) this.renderHeader(Object.assign({}, this.run, { status: 'running' }, d)); });
-    on('stage', d => { this.stageInfo = d; if (this.run) this.renderHeader(Object.assign({}, this.run, { stage: d.stage })); });
+    on('stage', d => {
+      this.stageInfo = d;
+      if (d.stress_level != null) this.stageLevels[d.index] = d.stress_level; // index = creep stage number
+      if (this.run) this.renderHeader(Object.assign({}, this.run, { stage: d.stage }));
+    });
     on('shear', d => {
       this.qPlot.append('q model', d.axial_strain_pct, d.q_kPa);
       this.vPlot.append('εv model', d.axial_strain_pct, d.volumetric_strain_pct);
     });
-    on('creep', d => this.creepPlot.append(`stage ${d.stage}`, d.time_min, d.axial_deformation_mm));
+    on('creep', d => {
+      const name = `stage ${d.stage}${this.stageLevels[d.stage] != null ? ` (S = ${this.stageLevels[d.stage]})` : ''}`;
+      this.creepPlot.append(name, d.time_min, d.axial_deformation_mm);
+      this.creepLogPlot.append(name, d.time_min, d.axial_deformation_mm);
+    });
     // Step counters may restart with each phase; keep the x axis cumulative.
     let stepOffset = 0, lastStep = -Infinity;
     on('energy', d => {
@@ -144,7 +162,7 @@ export class RunView {
         .map(([k, v]) => el('tr', {}, el('th', {}, k), el('td', {}, typeof v === 'number' ? Number(v.toPrecision(6)) : String(v))));
       const parts = [el('h3', {}, 'Summary'), el('table', { class: 'kv', id: 'run-summary' }, rows)];
       if (Array.isArray(s.creep_stages) && s.creep_stages.length) {
-        const cols = Object.keys(s.creep_stages[0]);
+        const cols = Object.keys(s.creep_stages[0]).sort((a, b) => (b === 'stage') - (a === 'stage')); // stage first
         parts.push(el('h3', {}, 'Creep stages'), el('table', { class: 'grid' },
           el('tr', {}, cols.map(c => el('th', {}, axisLabel(c)))),
           s.creep_stages.map(r => el('tr', {}, cols.map(c => el('td', {}, typeof r[c] === 'number' ? Number(r[c].toPrecision(5)) : String(r[c])))))));

@@ -141,16 +141,25 @@ try {
   }
   const status = await page.textContent('#run-status');
   const counts = {};
-  for (const id of ['plot-q', 'plot-vol', 'plot-creep', 'plot-energy', 'plot-measure']) counts[id] = await points(page, id);
+  for (const id of ['plot-q', 'plot-vol', 'plot-creep', 'plot-creep-log', 'plot-energy', 'plot-measure']) counts[id] = await points(page, id);
   log('final status', status, 'point counts', JSON.stringify(counts), 'first q count', firstCount);
   check(status === 'done', `the run finishes (status ${status})`);
   check(counts['plot-q'] > firstCount && seenCounts.size >= 2,
     `q-axial strain curve grew while streaming (counts seen: ${[...seenCounts].sort((a, b) => a - b).join(', ')})`);
   check(counts['plot-vol'] > 1, 'volumetric strain curve has points');
   check(counts['plot-creep'] > 1, 'creep curves have points');
+  // The same creep points on log time; only t <= 0 may be left out there.
+  const creepLogShown = await page.$eval('#plot-creep-log canvas', c => Number(c.dataset.visible || 0));
+  const creepSeries = Number(await page.$eval('#plot-creep canvas', c => c.dataset.series));
+  check(creepSeries === 1, `one creep series per stage (${creepSeries} for the one stage)`);
+  check(counts['plot-creep-log'] === counts['plot-creep'] && creepLogShown > 1 && creepLogShown >= counts['plot-creep'] - creepSeries,
+    `creep on log time shows the stage's points (${creepLogShown} of ${counts['plot-creep-log']})`);
+  // The header's activity line follows the run page at once, not one polling period later.
+  const activityCleared = await page.waitForFunction(id => !new RegExp(`run #${id}\\b`).test(document.querySelector('#activity')?.textContent || ''),
+    runId, { timeout: 1500 }).then(() => true, () => false);
+  check(activityCleared, `the header activity line drops the finished run (${(await page.textContent('#activity')).trim()})`);
   check(counts['plot-energy'] > 1, 'energy curves have points');
   check(counts['plot-measure'] > 0, 'measurement-sphere histories have points');
-  await page.check('#plot-creep .plot-log');
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(shots, '04_run_done.png'), fullPage: true });
 
