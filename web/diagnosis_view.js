@@ -7,7 +7,9 @@
 
 import { el, getJSON, postJSON, progressElement } from './api.js';
 
-const num = v => (typeof v === 'number' ? Number(v.toPrecision(5)) : v == null ? '—' : typeof v === 'boolean' ? (v ? 'yes' : 'no') : String(v));
+// Five significant digits; very large or small magnitudes (e.g. moduli in Pa) as 1.2e+8.
+const sig = v => (v !== 0 && (Math.abs(v) >= 1e6 || Math.abs(v) < 1e-4) ? v.toExponential(4).replace(/\.?0+e/, 'e') : Number(v.toPrecision(5)));
+const num = v => (typeof v === 'number' ? sig(v) : v == null ? '—' : typeof v === 'boolean' ? (v ? 'yes' : 'no') : String(v));
 
 function table(id, cols, rows, headers = cols) {
   return el('table', { class: 'grid', id },
@@ -43,7 +45,7 @@ export class DiagnosisView {
       const error = el('span', { class: 'field-error', id: `diagnose-${key.replace(/_/g, '-')}-error`, role: 'alert' });
       this.fields[key] = { input, error };
       return el('label', { class: 'diagnose-option' }, `${label}${unit ? ' (' + unit + ')' : ''} `, input,
-        el('span', { class: 'limits' }, ` ${min}…${max}`), error);
+        el('span', { class: 'limits' }, ` ${min}…${max === 2 ** 53 ? '2⁵³' : max}`), error);
     };
     this.error = el('div', { class: 'field-error', id: 'diagnose-error', role: 'alert' });
     this.progress = el('div', { id: 'diagnosis-progress' }, el('span', { class: 'hint' }, 'no diagnosis selected'));

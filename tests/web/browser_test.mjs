@@ -246,6 +246,45 @@ try {
   }
   check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'out-of-limits budgets queued no diagnosis');
   await page.fill('#diagnose-budget-runs', '24');
+
+  // ---- 5. a finished diagnosis's report, rendered from a stored-report fixture ----------
+  // A real diagnosis is far beyond the CI budget, so the three GETs the panel makes for a
+  // finished diagnosis answer with a report in the exact shape of the server's
+  // diagnosis_report_to_json (server/io/diagnosis_json.cpp).
+  const fixtureId = 9999;
+  const err = (curve, phase, n, rmse, unit, nrmse) => ({ curve, phase, n, rmse, unit, nrmse });
+  const report = {
+    chosen_effect: 'rolling_resistance', effects: ['rolling_resistance', 'seating_error'],
+    parameters: [{ name: 'rolling_friction', unit: '', value: 0.12, std: 0.02 }, { name: 'seating_closure', unit: '%', value: 0.35, std: 0.05 }],
+    base_parameters: [{ name: 'contact_modulus', unit: 'Pa', value: 1.2e8, std: 1e7 }],
+    error_before: [err('stress_strain@100kPa', 'all', 61, 21.5, 'kPa', 0.11), err('volumetric@100kPa', 'dilation', 30, 0.42, '%', 0.2),
+      err('creep-1@100kPa', 'primary', 12, 0.031, 'mm', 0.09)],
+    error_after: [err('stress_strain@100kPa', 'all', 61, 6.2, 'kPa', 0.032), err('volumetric@100kPa', 'dilation', 30, 0.11, '%', 0.05),
+      err('creep-1@100kPa', 'primary', 12, 0.012, 'mm', 0.035)],
+    nrmse_before: 0.13, nrmse_after: 0.04,
+    delta_bic: { vs_base: -85.2, runners_up: [{ effect: 'bond_degradation', delta_bic: 31.4 }] },
+    candidates: [], steps: [{ step: 1, added: 'rolling_resistance', nrmse_before: 0.13, nrmse_after: 0.05, delta_bic: -70.1, n_effective: 40.2 }],
+    n_readings: 103, n_effective: 40.2, runs_used: 118, verdict: 'rolling_resistance explains the residual',
+  };
+  const stored = { id: fixtureId, dataset_id: 1, status: 'done', progress_pct: 100, created_at: '2026-01-01T00:00:00Z', finished_at: '2026-01-01T01:00:00Z', error: null };
+  const fixture = async (routeReq, body, type = 'application/json') => routeReq.fulfill({ status: 200, contentType: type, body });
+  await page.route(u => new URL(u).pathname === '/diagnoses', r => fixture(r, JSON.stringify({ diagnoses: [{ ...stored, chosen_effect: report.chosen_effect }] })));
+  await page.route(u => new URL(u).pathname === `/diagnoses/${fixtureId}`, r => fixture(r, JSON.stringify({ ...stored, report })));
+  await page.route(u => new URL(u).pathname === `/diagnoses/${fixtureId}/events`, r => fixture(r, 'event: done\ndata: {"status":"done"}\n\n', 'text/event-stream'));
+  await page.goto(`${base}/#/runs`);
+  await page.goto(`${base}/#/diagnose`);
+  await page.click(`#diagnoses-table a:has-text("#${fixtureId}")`);
+  await page.waitForSelector('#diagnosis-before', { timeout: 10000 });
+  const heading = id => page.$eval(`#${id}`, t => t.previousElementSibling?.textContent || '');
+  const beforeTitle = await heading('diagnosis-before'), afterTitle = await heading('diagnosis-after');
+  check(/calibrated base model/i.test(beforeTitle) && /before any effect/i.test(beforeTitle), `the "before" table is titled as the calibrated base model (${beforeTitle})`);
+  check(/rolling_resistance/.test(afterTitle) && /seating_error/.test(afterTitle), `the "after" table names the effects added (${afterTitle})`);
+  const rmseCells = await page.$$eval('#diagnosis-before tr td:nth-child(4)', tds => tds.map(t => t.textContent));
+  check(JSON.stringify(rmseCells) === JSON.stringify(['21.5 kPa', '0.42 %', '0.031 mm']), `each RMSE carries its unit (${rmseCells.join(' | ')})`);
+  const progressText = await page.textContent('#diagnosis-progress');
+  check(/done/.test(progressText) && /100\.0 %/.test(progressText), `the finished diagnosis shows done at 100 % (${progressText.trim()})`);
+  await page.screenshot({ path: path.join(shots, '07_diagnosis_report.png'), fullPage: true });
+  await page.unrouteAll();
   await page.screenshot({ path: path.join(shots, '06_diagnosis_panel.png'), fullPage: true });
 } catch (e) {
   failures++;
