@@ -169,7 +169,11 @@ export class SchemeForm {
     }
     input.dataset.pointer = pointer;
     input.name = pointer;
-    const label = el('label', { for: id, title: s.description || pointer }, base.replace(/_/g, ' ') + (unit ? ` (${unit})` : ''));
+    // A real number without a unit suffix is a ratio or coefficient: say so with (–), so
+    // no number field leaves its unit to guesswork (integers are counts, no mark).
+    const itemType = Array.isArray(value) ? resolveRef(s.items || {}, this.schema).type : null;
+    const dimensionless = !unit && (type === 'number' || itemType === 'number' || (typeof value === 'number' && !Number.isInteger(value) && type !== 'integer'));
+    const label = el('label', { for: id, title: s.description || pointer }, base.replace(/_/g, ' ') + (unit ? ` (${unit})` : dimensionless ? ' (–)' : ''));
     return el('div', { class: 'field', dataset: { pointer } }, label, input, limits, error);
   }
 

@@ -74,6 +74,10 @@ try {
   check(pointers.length >= 5, `the scheme form has editable fields (${pointers.length})`);
   const unitLabels = await page.$$eval('#scheme-form .field label', es => es.filter(e => /kPa|mm|%|min/.test(e.textContent)).length);
   check(unitLabels > 0, `fields show their units (${unitLabels} with kPa/mm/%/min)`);
+  // Every number field states a unit or (–); only integer counts may go without.
+  const unmarked = await page.$$eval('#scheme-form .field', fs => fs.filter(f => f.querySelector('input[type=number]') && !/\(.+\)\s*$/.test(f.querySelector('label').textContent))
+    .map(f => f.querySelector('label').textContent.trim()));
+  check(unmarked.every(l => ['seed', 'threads', 'max particles'].includes(l)), `number fields without a unit are counts only (${unmarked.join(', ')})`);
   await page.screenshot({ path: path.join(shots, '01_new_run_form.png'), fullPage: true });
 
   const [badPointer, badValue] = INVALID.map(([re, v]) => [pointers.find(p => re.test(p)), v]).find(([p]) => p) || [];
