@@ -32,16 +32,19 @@ Eigen::VectorXd as_eigen(const std::vector<double>& v) {
 }
 std::vector<double> as_std(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
 
+// Columns for the `active` coordinates only; profiled coordinates are the evaluator's
+// optimum at each point, not free variables, and are left out of the regression.
 Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const Eigen::VectorXd& c, const std::vector<double>& rc,
-                               double width) {
+                               double width, const std::vector<Eigen::Index>& active) {
     const auto& residuals = h.point_residuals;
-    const Eigen::Index k = c.size();
+    const Eigen::Index k = static_cast<Eigen::Index>(active.size());
     const Eigen::Index n = static_cast<Eigen::Index>(rc.size());
     Eigen::MatrixXd dtwd = Eigen::MatrixXd::Zero(k, k);
     Eigen::MatrixXd rwd = Eigen::MatrixXd::Zero(n, k);
+    Eigen::VectorXd d(k);
     for (std::size_t i = 0; i < h.points.size(); ++i) {
-        if (!std::isfinite(h.point_rss[i])) continue;
-        const Eigen::VectorXd d = as_eigen(h.points[i]) - c;
+        if (!std::isfinite(h.point_rss[i]) || residuals[i].size() != rc.size()) continue;
+        for (Eigen::Index a = 0; a < k; ++a) d[a] = h.points[i][static_cast<std::size_t>(active[static_cast<std::size_t>(a)])] - c[active[static_cast<std::size_t>(a)]];
         const double dist2 = d.squaredNorm();
         if (dist2 == 0.0) continue;
         const double w = std::exp(-dist2 / (2.0 * width * width));
@@ -50,7 +53,7 @@ Eigen::MatrixXd local_jacobian(const CalibrationResult& h, const Eigen::VectorXd
         for (Eigen::Index a = 0; a < n; ++a) rwd.row(a).noalias() += (w * (residuals[i][a] - rc[a])) * d.transpose();
     }
     // Small ridge: directions no run has explored get a zero slope rather than noise.
-    const double ridge = 1e-6 * std::max(dtwd.trace() / static_cast<double>(k), 1e-12) + 1e-12;
+    const double ridge = 1e-6 * std::max(dtwd.trace() / static_cast<double>(std::max<Eigen::Index>(k, 1)), 1e-12) + 1e-12;
     dtwd.diagonal().array() += ridge;
     return rwd * dtwd.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
 }
@@ -105,12 +108,19 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
             if (res.point_rss.back() < res.point_rss[best]) best = res.points.size() - 1;
         }
 
+    std::vector<Eigen::Index> active;
+    for (Eigen::Index j = 0; j < k; ++j)
+        if (st.profiled.size() != st.start.size() || !st.profiled[static_cast<std::size_t>(j)]) active.push_back(j);
+    if (active.empty()) throw std::invalid_argument("calibrate: every coordinate is profiled, nothing to step");
+    const Eigen::Index ka = static_cast<Eigen::Index>(active.size());
+
     auto run_batch = [&](const std::vector<Eigen::VectorXd>& batch) {
         if (batch.empty()) return;
         std::vector<UnitPoint> points;
         for (const auto& b : batch) points.push_back(as_std(b));
         auto out = evaluate(points);
-        if (out.size() != batch.size()) throw std::logic_error("calibrate: evaluator returned the wrong batch size");
+        if (out.size() != batch.size() || points.size() != batch.size())
+            throw std::logic_error("calibrate: evaluator returned the wrong batch size");
         for (std::size_t i = 0; i < batch.size(); ++i) {
             res.points.push_back(points[i]);
             res.point_rss.push_back(rss_of(out[i]));
@@ -122,15 +132,24 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     };
 
     // Design: the start point first, so `best` starts there; then the space-filling part.
+    // Profiled coordinates start at the start point's value (the evaluator moves them).
     const Eigen::VectorXd start = as_eigen(st.start);
     std::vector<Eigen::VectorXd> design{clamp_unit(start)};
     if (st.axial_design)
-        for (Eigen::Index j = 0; j < k; ++j) {
+        for (Eigen::Index j : active) {
             Eigen::VectorXd p = start;
             p[j] = start[j] + (start[j] + st.initial_radius <= 1.0 ? st.initial_radius : -st.initial_radius);
             design.push_back(clamp_unit(p));
         }
-    for (auto& p : latin_hypercube(st.design_runs, static_cast<int>(k), st.seed)) design.push_back(as_eigen(p));
+    for (const auto& p : st.extra_design) {
+        if (p.size() != st.start.size()) throw std::invalid_argument("calibrate: extra design point of the wrong dimension");
+        design.push_back(clamp_unit(as_eigen(p)));
+    }
+    for (auto& p : latin_hypercube(st.design_runs, static_cast<int>(ka), st.seed)) {
+        Eigen::VectorXd u = start;
+        for (Eigen::Index a = 0; a < ka; ++a) u[active[static_cast<std::size_t>(a)]] = p[static_cast<std::size_t>(a)];
+        design.push_back(u);
+    }
     const std::size_t batch_size = static_cast<std::size_t>(std::max(1, st.batch));
     for (std::size_t a = 0; a < design.size(); a += batch_size * 4)
         run_batch({design.begin() + static_cast<long>(a),
@@ -139,42 +158,82 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     double radius = st.initial_radius;
     const int budget = res.runs + std::max(0, st.refine_runs);
     static const double kDamping[] = {1e-3, 1e-1, 1.0, 10.0};
+    int failed_batches = 0;  // consecutive batches without improvement
+    int compass = 0;         // next compass probe: axis compass/2 % ka, sign by parity
     while (res.runs < budget && radius > 1e-3 && std::isfinite(res.point_rss[best])) {
         const Eigen::VectorXd c = as_eigen(res.points[best]);
-        const Eigen::VectorXd rc = Eigen::Map<const Eigen::VectorXd>(residuals[best].data(),
-                                                                     static_cast<Eigen::Index>(residuals[best].size()));
-        const Eigen::MatrixXd J = local_jacobian(res, c, residuals[best], std::max(radius, 0.05));
+        const Eigen::VectorXd rc = as_eigen(residuals[best]);
+        const Eigen::MatrixXd J = local_jacobian(res, c, residuals[best], std::max(radius, 0.05), active);
         const Eigen::MatrixXd jtj = J.transpose() * J;
         const Eigen::VectorXd g = J.transpose() * rc;
         const double scale = std::max(jtj.diagonal().maxCoeff(), 1e-12);
         std::vector<Eigen::VectorXd> batch;
         const std::size_t want = std::min<std::size_t>(batch_size, static_cast<std::size_t>(budget - res.runs));
-        for (std::size_t b = 0; b < want; ++b) {
+        // After a failed batch, half of the batch (at least one run every other batch when
+        // the batch is one run) goes to compass probes instead of surrogate steps.
+        std::size_t probes = 0;
+        if (failed_batches > 0) probes = want >= 2 ? want / 2 : (failed_batches % 2 == 1 ? 1 : 0);
+        const std::size_t steps = want - probes;
+        auto differs = [&](const Eigen::VectorXd& p) {
+            if ((p - c).norm() < 1e-9) return false;
+            for (const auto& q : res.points)
+                if ((as_eigen(q) - p).norm() < 1e-9) return false;  // already run
+            for (const auto& q : batch)
+                if ((q - p).norm() < 1e-9) return false;
+            return true;
+        };
+        for (std::size_t b = 0; b < steps; ++b) {
             Eigen::MatrixXd a = jtj;
             a.diagonal().array() += kDamping[b % 4] * (1.0 + static_cast<double>(b / 4)) * scale * 1e-2 +
                                     1e-9 * scale;
             Eigen::VectorXd step = -a.ldlt().solve(g);
             const double len = step.lpNorm<Eigen::Infinity>();
             if (len > radius) step *= radius / len;
-            Eigen::VectorXd p = clamp_unit(c + step);
-            if ((p - c).norm() < 1e-9) {  // stuck on the box boundary: probe a random direction
+            Eigen::VectorXd p = c;
+            for (Eigen::Index j = 0; j < ka; ++j) p[active[static_cast<std::size_t>(j)]] += step[j];
+            p = clamp_unit(p);
+            if (!differs(p)) {  // stuck on the box boundary or repeated: probe a random direction
                 std::mt19937_64 rng(st.seed + static_cast<std::uint64_t>(res.runs) * 7919u + b);
                 std::normal_distribution<double> nd;
-                for (Eigen::Index j = 0; j < k; ++j) p[j] = c[j] + 0.5 * radius * nd(rng);
+                for (Eigen::Index j : active) p[j] = c[j] + 0.5 * radius * nd(rng);
                 p = clamp_unit(p);
             }
             batch.push_back(p);
         }
+        for (std::size_t b = 0; b < probes; ++b) {
+            // Compass probe; if the + side is against the bound, the - side instead.
+            for (int tries = 0; tries < 2 * static_cast<int>(ka); ++tries, ++compass) {
+                const Eigen::Index j = active[static_cast<std::size_t>((compass / 2) % ka)];
+                Eigen::VectorXd p = c;
+                p[j] += (compass % 2 == 0 ? radius : -radius);
+                p = clamp_unit(p);
+                if (differs(p)) {
+                    batch.push_back(p);
+                    ++compass;
+                    break;
+                }
+            }
+        }
+        if (batch.empty()) break;
         const double before = res.point_rss[best];
         run_batch(batch);
-        radius = res.point_rss[best] < before * (1.0 - 1e-6) ? std::min(0.5, radius * 1.5) : radius * 0.5;
+        const bool improved = res.point_rss[best] < before * (1.0 - 1e-6);
+        failed_batches = improved ? 0 : failed_batches + 1;
+        // The radius shrinks only when the compass probes failed too (a surrogate step that
+        // fails says little about the scale on a jagged objective).
+        if (improved) radius = std::min(0.5, radius * 1.5);
+        else if (probes > 0 || batch_size == 1) radius *= 0.5;
     }
 
     res.best = res.points[best];
     res.residual = residuals[best];
     res.rss = res.point_rss[best];
     if (std::isfinite(res.rss)) {
-        const Eigen::MatrixXd J = local_jacobian(res, as_eigen(res.best), res.residual, std::max(radius, 0.1));
+        // Full-width Jacobian: columns of profiled coordinates are zero here (the caller
+        // fills them by finite differences, which cost nothing for them).
+        const Eigen::MatrixXd Ja = local_jacobian(res, as_eigen(res.best), res.residual, std::max(radius, 0.1), active);
+        Eigen::MatrixXd J = Eigen::MatrixXd::Zero(Ja.rows(), k);
+        for (Eigen::Index a = 0; a < ka; ++a) J.col(active[static_cast<std::size_t>(a)]) = Ja.col(a);
         res.jacobian.assign(J.data(), J.data() + J.size());
     }
     return res;

@@ -10,7 +10,15 @@
 //     around the best point u*; Levenberg-Marquardt steps on that surrogate, one per
 //     damping value in the batch, are run for real; h grows by 1.5 after an improvement
 //     and halves otherwise. Regression over scattered runs instead of finite differences
-//     because DEM output is rough at small parameter changes.
+//     because DEM output is rough at small parameter changes. After a batch that found
+//     nothing better, the next batch also holds compass probes (+-h along one axis,
+//     axes in turn): on a jagged objective the surrogate's direction can be wrong, and a
+//     pattern search on real runs still makes progress (it needs no gradient).
+//  Profiled coordinates (settings.profiled): parameters the evaluator optimises itself for
+//  free at every point (test artefacts applied to a model run as post-processing). The
+//  evaluator writes its optimum into the point; the surrogate and the steps act on the
+//  other coordinates only (variable projection), so an artefact cannot pull the
+//  physical parameters away to mimic it.
 //  4. Uncertainty: Cov(u) = s^2 (J^T J)^-1 (n / n_eff), s^2 = RSS / (n - k), mapped to
 //     parameter units by the derivative of the unit-cube map; the n / n_eff factor
 //     accounts for correlated readings along a curve.
@@ -27,8 +35,9 @@
 namespace triax::diagnose {
 
 // Residual vectors for a batch of unit-cube points; an empty vector marks a failed run.
+// The evaluator may overwrite the profiled coordinates of the points with their optimum.
 using UnitPoint = std::vector<double>;
-using BatchEvaluator = std::function<std::vector<std::vector<double>>(const std::vector<UnitPoint>&)>;
+using BatchEvaluator = std::function<std::vector<std::vector<double>>(std::vector<UnitPoint>&)>;
 
 struct CalibrationSettings {
     int design_runs = 12;       // Latin hypercube points (0: start point and refinement only)
@@ -40,6 +49,10 @@ struct CalibrationSettings {
     // Extra design points placed +-radius along each axis around the start point (useful
     // when refining from a previous optimum, where a space-filling design would waste runs).
     bool axial_design = false;
+    // Further design points chosen by the caller (run with the start point).
+    std::vector<UnitPoint> extra_design;
+    // Coordinates the evaluator optimises itself (empty: none); not stepped, not probed.
+    std::vector<bool> profiled;
     // Runs already made on the same parameter space (a previous calibration of the same
     // model): they join the surrogate fits and the choice of the best point, cost nothing
     // and are not counted in `runs`.

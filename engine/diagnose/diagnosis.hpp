@@ -30,6 +30,10 @@ struct DiagnoseOptions {
     int max_particles = 0;         // DEM: cap on soil particles per run (0 = the scheme's)
     std::uint64_t seed = 1;
     double bic_threshold = 10.0;   // an effect is kept only if it lowers BIC by more than this
+    // Uncertainties from a forward-difference Jacobian at the optimum (k extra runs per
+    // reported model); false: from the local regression over the runs already made
+    // (cheaper, and on a rough DEM response less sensitive to the step).
+    bool finite_difference_uncertainty = true;
 };
 
 struct FittedParameter {

@@ -43,6 +43,9 @@ struct ParameterSpec {
     double upper = 1.0;
     double nominal = 0.5;  // used as the starting point and for signatures
     bool log_scale = false;
+    // At the lower bound the effect is absent (mu_r = 0): the model is then the model
+    // without it, so runs already made without the effect can seed its fit for free.
+    bool lower_is_off = false;
 };
 
 // Parameters of the two test artefacts (the physical ones come from the ForwardModel).

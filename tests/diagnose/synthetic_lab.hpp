@@ -19,6 +19,8 @@ struct SyntheticLabOptions {
     double volumetric_noise = 2e-4;
     double creep_noise = 2e-5;
     std::uint64_t seed = 7;
+    double shear_strain_step = 0.0025;  // readings of a shear curve: 0, step, ... up to
+    int shear_readings = 61;            // shear_readings - 1 steps (lab-like: 0.25 % to 15 %)
 };
 
 inline double interpolate_at(const std::vector<double>& x, const std::vector<double>& y, double xq) {
@@ -45,8 +47,8 @@ inline LabDataset make_synthetic_lab(const ForwardModel& model, const ModelPoint
         r.confining_pa = c.confining_pa;
         r.stress_level = c.stress_level;
         if (c.kind == CurveKind::Shear) {
-            for (int i = 0; i <= 60; ++i) {
-                const double eps = 0.0025 * i;
+            for (int i = 0; i < o.shear_readings; ++i) {
+                const double eps = o.shear_strain_step * i;
                 const double s = o.seating_strain;
                 const double soil = s > 0 ? std::max(0.0, eps - s * (1 - std::exp(-eps / (0.3 * s)))) : eps;
                 r.axial_strain.push_back(eps);
