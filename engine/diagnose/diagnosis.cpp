@@ -525,9 +525,12 @@ DiagnosisReport Loop::run() {
         }
         current = fits[static_cast<std::size_t>(w)];
     }
-    // 4. Backward pass over the artefacts (free): one kept early, against a base model
-    //    calibrated on runs chosen with the artefacts profiled, may no longer earn its
-    //    parameter once the model is refined or a physical effect is in.
+    // 4. Backward pass over the artefacts (free): an artefact stays in the final model if
+    //    it pays for its parameter at all (BIC lower with it); it is *named* (effects,
+    //    chosen_effect) only if it lowers BIC by more than the threshold, like a physical
+    //    effect. Dropping a real 0.3 % seating offset because a short DEM curve has few
+    //    effective readings would spoil the fitted physics and the error after (measured:
+    //    NRMSE 11 % -> 19 % on the CI DEM case), so nuisance and evidence are kept apart.
     std::vector<std::string> dropped;
     for (bool again = true; again;) {
         again = false;
@@ -538,7 +541,7 @@ DiagnosisReport Loop::run() {
                 if (g != e) v.effects.push_back(g);
             Fit without = refit_free(v, current);
             const double ne = effective_readings(current.cal.residual, ranges_);
-            if (bic(without.cal.rss, n, ne, without.specs.size()) <= bic(current.cal.rss, n, ne, current.specs.size()) + opt_.bic_threshold) {
+            if (bic(without.cal.rss, n, ne, without.specs.size()) <= bic(current.cal.rss, n, ne, current.specs.size())) {
                 dropped.emplace_back(effect_name(e));
                 current = without;
                 again = true;
@@ -549,6 +552,7 @@ DiagnosisReport Loop::run() {
 
     // Each artefact kept is reported as a step of its own: the final model against the
     // final model without it (free), on the final model's n_eff.
+    std::vector<Effect> named;  // artefacts with evidence above the threshold
     {
         const double ne = effective_readings(current.cal.residual, ranges_);
         for (Effect e : current.variant.effects) {
@@ -564,6 +568,7 @@ DiagnosisReport Loop::run() {
             st.nrmse_after = std::sqrt(current.cal.rss / static_cast<double>(n));
             st.delta_bic = bic(current.cal.rss, n, ne, current.specs.size()) - bic(without.cal.rss, n, ne, without.specs.size());
             st.n_effective = ne;
+            if (st.delta_bic < -opt_.bic_threshold) named.push_back(e);
             rep.steps.push_back(st);
         }
     }
@@ -589,7 +594,9 @@ DiagnosisReport Loop::run() {
     rep.nrmse_before = std::sqrt(base_final.cal.rss / static_cast<double>(n));
     rep.nrmse_after = std::sqrt(current.cal.rss / static_cast<double>(n));
     rep.delta_bic_vs_base = bic_final - bic_base;
-    for (Effect e : current.variant.effects) rep.effects.emplace_back(effect_name(e));
+    for (Effect e : current.variant.effects)
+        if (!is_test_artefact(e) || std::find(named.begin(), named.end(), e) != named.end())
+            rep.effects.emplace_back(effect_name(e));
     // The missing physics is the headline; artefacts found alongside stay in `effects`.
     for (Effect e : current.variant.effects)
         if (!is_test_artefact(e)) {
@@ -626,7 +633,10 @@ DiagnosisReport Loop::run() {
             v << "; next best " << next->effect << " is worse by " << next->delta_bic;
         }
     }
-    for (const auto& d : dropped) v << "; " << d << " dropped at the end (no longer lowers BIC by " << opt_.bic_threshold << ")";
+    for (Effect e : current.variant.effects)
+        if (is_test_artefact(e) && std::find(named.begin(), named.end(), e) == named.end())
+            v << "; " << effect_name(e) << " kept as a correction below the evidence threshold";
+    for (const auto& d : dropped) v << "; " << d << " dropped (does not lower BIC)";
     v << "; " << runs_ << " model runs";
     if (failures_ > 0) v << " (" << failures_.load() << " failed)";
     rep.verdict = v.str();
