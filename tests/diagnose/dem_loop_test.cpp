@@ -42,7 +42,10 @@ struct Case {
     double seconds = 0.0;
 };
 
-Case run_case(const std::vector<std::pair<Effect, std::vector<double>>>& hidden) {
+// truth_scale multiplies the nominal base values (1: the truth is the calibration's start);
+// lab_seed is the packing the "lab" specimen is made from.
+Case run_case(const std::vector<std::pair<Effect, std::vector<double>>>& hidden, std::vector<double> truth_scale = {},
+              std::uint64_t lab_seed = 7, int budget_runs = 6, int refine_runs = 3) {
     const TestScheme base = ci_scheme();
     LabDataset conditions;
     LabCurve c;
@@ -54,18 +57,19 @@ Case run_case(const std::vector<std::pair<Effect, std::vector<double>>>& hidden)
     const DemForwardModel model(base, conditions, 1, 0);
     std::vector<double> truth;
     for (const auto& s : model.base_parameters()) truth.push_back(s.nominal);
+    for (std::size_t j = 0; j < truth.size() && j < truth_scale.size(); ++j) truth[j] *= truth_scale[j];
     testing::SyntheticLabOptions lo;
     lo.seating_strain = 0.003;
     lo.deviator_noise_pa = 3000.0;
     lo.volumetric_noise = 2e-4;
     lo.shear_strain_step = 0.001;
     lo.shear_readings = 20;  // 0 .. 1.9 %, inside the model's 2 %
-    lo.seed = 7;             // another packing than the diagnosis's (seed 11)
+    lo.seed = lab_seed;      // another packing than the diagnosis's (seed 11)
     const LabDataset lab = testing::make_synthetic_lab(model, {truth, hidden}, lo);
 
     DiagnoseOptions opt;
-    opt.budget_runs = 6;
-    opt.refine_runs = 3;
+    opt.budget_runs = budget_runs;
+    opt.refine_runs = refine_runs;
     opt.max_candidates = 1;
     opt.max_effects = 1;
     opt.concurrency = 2;
@@ -121,4 +125,21 @@ TEST_CASE("DEM data: control (noise + seating, no effect) is not given a physica
     CHECK(r.runs_used <= 30);
     // Always shown, so the measured figures can be read off the CI log.
     WARN(describe(c));
+}
+
+// Robustness checks run by hand (not in CI, ~2-3 min each):
+//   ./build/tests/test_diagnose "[.dem-loop]" -s
+// the truth away from the calibration's start (modulus x1.4, friction 0.5, bonds x0.5)
+// and another lab packing.
+TEST_CASE("DEM data, off-nominal truth: hidden rolling resistance", "[diagnose][dem][.dem-loop]") {
+    const auto c = run_case({{Effect::RollingResistance, {0.25}}}, {1.4, 1.25, 0.5}, 13, 8, 4);
+    WARN(describe(c));
+    CHECK(c.report.chosen_effect == "rolling_resistance");
+    CHECK(c.report.nrmse_after <= 0.5 * c.report.nrmse_before);
+}
+
+TEST_CASE("DEM data, off-nominal truth: control", "[diagnose][dem][.dem-loop]") {
+    const auto c = run_case({}, {1.4, 1.25, 0.5}, 13, 8, 4);
+    WARN(describe(c));
+    for (const auto& e : c.report.effects) CHECK(is_test_artefact(*effect_from_name(e)));
 }
