@@ -418,7 +418,7 @@ DiagnosisReport Loop::run() {
         return winner;
     };
 
-    auto signature_candidate = [&](const Fit& current, Effect e, std::vector<double>* residual) {
+    auto signature_candidate = [&](const Fit& current, Effect e) {
         Variant v = current.variant;
         v.effects.push_back(e);
         std::vector<UnitPoint> at{extended(current.cal.best, e)};
@@ -428,7 +428,6 @@ DiagnosisReport Loop::run() {
         c.effect = std::string(effect_name(e));
         c.signature_score = r[0].empty() ? 0.0 : score_signature(current, r[0]);
         if (r[0].empty()) c.note = "signature run failed";
-        if (residual) *residual = r[0];
         return c;
     };
 
@@ -455,7 +454,7 @@ DiagnosisReport Loop::run() {
         std::vector<CandidateResult> cands;
         std::vector<std::pair<double, Effect>> ranked;
         for (Effect e : pool) {
-            cands.push_back(signature_candidate(current, e, nullptr));
+            cands.push_back(signature_candidate(current, e));
             if (!is_test_artefact(e)) ranked.emplace_back(cands.back().signature_score, e);
         }
         std::stable_sort(ranked.begin(), ranked.end(), [](auto& a, auto& b) { return a.first > b.first; });
@@ -508,16 +507,9 @@ DiagnosisReport Loop::run() {
                 fits.push_back(fit(v, extended(same.cal.best, e), 0, opt_.refine_runs, true));
             }
         }
-        for (auto& c : cands) {
-            const auto e = *effect_from_name(c.effect);
-            if (is_test_artefact(e)) {
-                Variant v = current.variant;
-                v.effects.push_back(e);
-                fits.push_back(refit_free(v, same));
-            } else if (c.note.empty() && std::none_of(fits.begin(), fits.end(), [&](auto& f) { return effect_name(f.variant.effects.back()) == c.effect; })) {
+        for (auto& c : cands)
+            if (c.note.empty() && std::none_of(fits.begin(), fits.end(), [&](auto& f) { return effect_name(f.variant.effects.back()) == c.effect; }))
                 c.note = "ranked below the top " + std::to_string(opt_.max_candidates);
-            }
-        }
         const int w = select(same, fits, cands);
         if (w < 0) {
             current = same;
