@@ -2,7 +2,8 @@
 // 4 creep stages of 2.5 days each (the paper's ~10-day group), on the full 100 x 200 mm
 // specimen with the preset's DEM gradation (docs/parameters.md, "Paper-group gradation").
 // Reports particle counts, wall time per phase and in total, and the summary.
-// Usage: paper_group [A|B|C|D|E] [threads] [out.json] [--shear-only]
+// Usage: paper_group [A|B|C|D|E] [threads] [out.json|-] [--shear-only] [--reduced]
+// (--reduced: the 50 x 100 mm specimen of the protocol tests, same sigma3, for comparison)
 // Run with OMP_WAIT_POLICY=passive on a shared machine (spinning threads steal the core).
 #include <chrono>
 #include <cstdio>
@@ -22,12 +23,13 @@ class PhaseClock : public triax::protocol::RunObserver {
 public:
     void stage_changed(const std::string& stage, int, double, double) override {
         const auto now = std::chrono::steady_clock::now();
-        if (!phases_.empty()) phases_.back().second += std::chrono::duration<double>(now - since_).count();
+        if (!phases_.empty()) phases_[current_].second += std::chrono::duration<double>(now - since_).count();
         since_ = now;
         // Generation and consolidation run twice (shear specimen, creep specimen): summed.
-        for (auto& p : phases_)
-            if (p.first == stage) { std::swap(p, phases_.back()); return; }
+        for (std::size_t k = 0; k < phases_.size(); ++k)
+            if (phases_[k].first == stage) { current_ = k; return; }
         phases_.push_back({stage, 0.0});
+        current_ = phases_.size() - 1;
     }
     // Progress on stderr every 10 s of wall time (long runs on a loaded machine).
     void progress(const std::string& stage, double fraction, double eta_s) override {
@@ -43,6 +45,7 @@ public:
 
 private:
     std::vector<std::pair<std::string, double>> phases_;
+    std::size_t current_ = 0;
     std::chrono::steady_clock::time_point since_ = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point last_print_ = since_;
 };
@@ -52,8 +55,19 @@ int main(int argc, char** argv) {
     const std::string group = argc > 1 ? argv[1] : "B";
     auto scheme = triax::protocol::paper_group(group);
     if (argc > 2) scheme.threads = std::stoi(argv[2]);
-    bool shear_only = false;
-    for (int k = 1; k < argc; ++k) shear_only |= std::strcmp(argv[k], "--shear-only") == 0;
+    bool shear_only = false, reduced = false;
+    for (int k = 1; k < argc; ++k) {
+        shear_only |= std::strcmp(argv[k], "--shear-only") == 0;
+        reduced |= std::strcmp(argv[k], "--reduced") == 0;
+    }
+    if (reduced) {
+        // The reduced specimen of tests/protocol/triaxial_protocol_test.cpp (faithfulness check).
+        scheme.specimen.diameter_m = 0.05;
+        scheme.specimen.height_m = 0.1;
+        scheme.gradation.r_min_m = 2.5e-3;
+        scheme.gradation.radius_ratio = 3.0;
+        scheme.seed = 11;
+    }
     PhaseClock clock;
     const auto t0 = std::chrono::steady_clock::now();
     triax::protocol::TestResult r;
@@ -74,8 +88,9 @@ int main(int argc, char** argv) {
     std::printf("initial porosity %.3f, consolidated porosity %.3f, consolidation steps %ld, ratio %.2e\n",
                 r.initial_porosity, r.consolidation.porosity, r.consolidation.steps,
                 r.consolidation.unbalanced_force_ratio);
-    std::printf("q_f = %.1f kPa at %.2f %%, max inertial number %.2e, shear points %zu\n", r.q_failure_pa * 1e-3,
-                r.axial_strain_at_failure * 100, r.max_inertial_number, r.shear.size());
+    std::printf("q_f = %.1f kPa at %.2f %%, max inertial number %.2e (scaled grain density %.0f kg/m3), shear points %zu\n",
+                r.q_failure_pa * 1e-3, r.axial_strain_at_failure * 100, r.max_inertial_number,
+                r.inertial_density_kg_m3, r.shear.size());
     double vmax = -1.0;
     for (const auto& p : r.shear) vmax = std::max(vmax, p.volumetric_strain);
     if (!r.shear.empty())
@@ -85,7 +100,14 @@ int main(int argc, char** argv) {
         std::printf("stage %d S=%.2f: instant %.3f mm, final %.3f mm, 30-min share %.0f %%, converged %d, accelerating %d\n",
                     s.stage, s.stress_level, s.instant_deformation_m * 1e3, s.final_deformation_m * 1e3,
                     s.share_in_first_30min * 100, s.converged, s.accelerating);
-    if (argc > 3 && std::strcmp(argv[3], "--shear-only") != 0)
+    for (double eps : {0.01, 0.02, 0.04, 0.06, 0.08, 0.10, 0.15})
+        for (const auto& p : r.shear)
+            if (p.axial_strain >= eps) {
+                std::printf("  eps_a %5.2f %%: q %7.1f kPa, eps_v %6.2f %%\n", p.axial_strain * 100, p.q_pa * 1e-3,
+                            p.volumetric_strain * 100);
+                break;
+            }
+    if (argc > 3 && argv[3][0] != '-')
         std::ofstream(argv[3]) << triax::io::result_to_json(r).dump();
     return 0;
 }

@@ -140,6 +140,9 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             return sp;
         };
         auto shear_specimen = consolidated(true);
+        // The creep specimen is the same consolidated specimen (same seed, deterministic
+        // engine): a copy saves generating and consolidating it a second time.
+        auto creep_copy = n_stages > 0 && last == Phase::Creep ? std::make_unique<Specimen>(*shear_specimen) : nullptr;
         Specimen* spp = shear_specimen.get();
         World* wp = &spp->world();
         const double dt = wp->time_step();
@@ -217,9 +220,10 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             obs.stage_changed("done", 0, 0.0, 0.0);
             return res;
         }
-        const long shear_steps = wp->step();
+        // Steps done on the shear specimen after the copy (the copy's history counts once).
+        const long shear_steps = wp->step() - creep_copy->world().step();
         shear_specimen.reset();
-        auto creep_specimen = consolidated(false);
+        auto creep_specimen = std::move(creep_copy);
         Specimen& sp = *creep_specimen;
         World& w = sp.world();
         // Grain rotation accumulated over the relaxation cycles (rad): divided by the
