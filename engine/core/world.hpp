@@ -95,6 +95,9 @@ public:
     // then not physical in time — only the equilibrium states are.
     void set_density_scaling(bool on) { density_scaling_ = on; }
     bool density_scaling() const { return density_scaling_; }
+    // Inertial mass of each body at the last step (= its mass without density scaling):
+    // what the quasi-static checks (inertial number) must use.
+    const std::vector<double>& inertial_masses() const { return inertial_mass_; }
     void set_gravity(const Vec3& g) { gravity_ = g; }
     const Vec3& gravity() const { return gravity_; }
     void set_threads(int n);

@@ -100,6 +100,17 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     for (int k = 0; k < 40 && world_.unbalanced_force_ratio() > 0.01; ++k) world_.cycle(250);
 }
 
+Specimen::Specimen(const Specimen& o)
+    : scheme_(o.scheme_),
+      world_(o.world_),
+      membrane_(std::make_unique<boundary::Membrane>(*o.membrane_)),
+      solid_volume_(o.solid_volume_),
+      mean_diameter_(o.mean_diameter_),
+      soil_density_(o.soil_density_),
+      soil_kn_(o.soil_kn_),
+      r_mean_(o.r_mean_),
+      soil_count_(o.soil_count_) {}
+
 ContactLaw Specimen::soil_law(bool friction_on) const {
     ContactLaw l;
     l.kn = soil_kn_;

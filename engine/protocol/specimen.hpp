@@ -22,6 +22,10 @@ public:
     // placed at 60 % size without overlap (seeded), then grown to full size in steps with
     // frictionless contacts, and relaxed to equilibrium. Deterministic for scheme.seed.
     explicit Specimen(const TestScheme& scheme);
+    // A deep copy (world and membrane): a second test on the same consolidated specimen
+    // without generating and consolidating it again.
+    Specimen(const Specimen& other);
+    Specimen& operator=(const Specimen&) = delete;
 
     World& world() { return world_; }
     const World& world() const { return world_; }

@@ -84,7 +84,8 @@ struct TestResult {
     std::vector<ShearPoint> shear;
     double q_failure_pa = 0.0;
     double axial_strain_at_failure = 0.0;
-    double max_inertial_number = 0.0;
+    double max_inertial_number = 0.0;    // with the density-scaled grain density below
+    double inertial_density_kg_m3 = 0.0; // grain density with density scaling (mass-weighted), shear
     std::vector<CreepStageResult> creep_stages;
     std::vector<EnergySample> energies;
     std::vector<MeasurementSample> measurements;

@@ -140,6 +140,9 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             return sp;
         };
         auto shear_specimen = consolidated(true);
+        // The creep specimen is the same consolidated specimen (same seed, deterministic
+        // engine): a copy saves generating and consolidating it a second time.
+        auto creep_copy = n_stages > 0 && last == Phase::Creep ? std::make_unique<Specimen>(*shear_specimen) : nullptr;
         Specimen* spp = shear_specimen.get();
         World* wp = &spp->world();
         const double dt = wp->time_step();
@@ -155,7 +158,17 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         World& w = *wp;
         const double h0 = sp.height(), v0 = sp.volume();
         const double p0 = std::max(sigma3, 1.0);
-        const double rate = kInertialTarget * std::sqrt(p0 / sp.soil_density()) / sp.mean_diameter();
+        // Density scaling raises the inertial mass of the grains (World::set_density_scaling);
+        // the inertial number that tells whether the shear is quasi-static is the one of the
+        // scaled grains, so the rate is chosen from the scaled density, not the true one.
+        double m_true = 0.0, m_inertial = 0.0;
+        for (int i = 0; i < sp.soil_count(); ++i) {
+            m_true += w.particles().mass[i];
+            m_inertial += std::max(w.particles().mass[i], w.inertial_masses()[i]);
+        }
+        const double rho_inertial = sp.soil_density() * m_inertial / m_true;
+        res.inertial_density_kg_m3 = rho_inertial;
+        const double rate = kInertialTarget * std::sqrt(p0 / rho_inertial) / sp.mean_diameter();
         const double seating = scheme.effects.seating_error ? scheme.effects.seating_displacement_m : 0.0;
         w.plane_wall(sp.top_wall()).velocity = Vec3(0, 0, -rate * h0);
         const long record_every = std::max<long>(kChunk, static_cast<long>(0.002 / (rate * dt)) / kChunk * kChunk);
@@ -183,7 +196,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 pt.sigma3_pa = sigma3;
                 pt.p_pa = sigma3 + q / 3.0;
                 pt.volumetric_strain = (v0 - sp.volume()) / v0;
-                pt.inertial_number = rate * sp.mean_diameter() * std::sqrt(sp.soil_density() / std::max(pt.p_pa, 1.0));
+                pt.inertial_number = rate * sp.mean_diameter() * std::sqrt(rho_inertial / std::max(pt.p_pa, 1.0));
                 res.max_inertial_number = std::max(res.max_inertial_number, pt.inertial_number);
                 res.shear.push_back(pt);
                 obs.shear_point(pt);
@@ -207,9 +220,10 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             obs.stage_changed("done", 0, 0.0, 0.0);
             return res;
         }
-        const long shear_steps = wp->step();
+        // Steps done on the shear specimen after the copy (the copy's history counts once).
+        const long shear_steps = wp->step() - creep_copy->world().step();
         shear_specimen.reset();
-        auto creep_specimen = consolidated(false);
+        auto creep_specimen = std::move(creep_copy);
         Specimen& sp = *creep_specimen;
         World& w = sp.world();
         // Grain rotation accumulated over the relaxation cycles (rad): divided by the

@@ -1,6 +1,10 @@
 // Scheme <-> JSON (lab units, JSON-pointer errors), result JSON/CSV columns, presets.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <random>
+
+#include "engine/protocol/gradation.hpp"
 #include "engine/protocol/paper_groups.hpp"
 #include "server/io/result_csv.hpp"
 #include "server/io/result_json.hpp"
@@ -87,4 +91,26 @@ TEST_CASE("result series carry unit-suffixed columns in lab units", "[protocol][
     CHECK(csv.rfind("axial_strain_pct,volumetric_strain_pct\n", 0) == 0);
     CHECK(io::result_summary_to_json(r)["sigma3_kPa"].get<double>() == Approx(100.0));
     CHECK_THROWS(io::result_series_to_json(r, "nope"));
+}
+
+TEST_CASE("paper-group presets give a full-size DEM specimen of thousands of grains", "[protocol][io]") {
+    // docs/parameters.md, "Paper-group gradation": Rmin = the paper's Eq. 2 radius 2.879 mm,
+    // Rmax = 2 Rmin; the literal 0.5 mm x 39.7 gives ~140 grains of up to 40 mm.
+    const auto s = protocol::paper_group("B");
+    const double kPi = 3.14159265358979323846;
+    const double solid = (1.0 - s.specimen.target_porosity) * kPi * 0.25 * s.specimen.diameter_m *
+                         s.specimen.diameter_m * s.specimen.height_m;
+    std::mt19937_64 rng(s.seed);
+    const auto radii = protocol::draw_radii(s.gradation, solid, rng);
+    const double r_max = *std::max_element(radii.begin(), radii.end());
+    const double r_min = *std::min_element(radii.begin(), radii.end());
+    CHECK(radii.size() > 2000);
+    CHECK(radii.size() < 4000);
+    CHECK(r_min >= 2.879e-3 * 0.999);
+    CHECK(s.specimen.diameter_m / (2.0 * r_max) >= 6.0);  // the usual D / d_max for triaxial specimens
+    std::mt19937_64 literal_rng(s.seed);
+    auto literal = s.gradation;
+    literal.r_min_m = 0.5e-3;
+    literal.radius_ratio = 39.712;
+    CHECK(protocol::draw_radii(literal, solid, literal_rng).size() < 300);
 }
