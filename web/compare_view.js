@@ -132,12 +132,20 @@ export class CompareView {
   show(comparison) {
     this.comparison = comparison;
     const curves = comparison.curves || [];
-    const cols = ['curve', 'stage', 'n', 'rmse', 'nrmse', 'r2', 'max_error', 'unit'];
+    // RMSE and max error carry the curve's unit in the cell; NRMSE is relative to the lab
+    // range. Lab readings outside the model's range are not compared: `dropped` says how many.
+    const withUnit = (c, k) => (typeof c[k] === 'number' ? `${num(c[k])}${c.unit ? ' ' + c.unit : ''}` : num(c[k]));
+    const cols = [['curve', c => c.curve], ['stage', c => num(c.stage)], ['readings compared', c => num(c.n)],
+      ['dropped (outside the model range)', c => num(c.dropped)], ['RMSE', c => withUnit(c, 'rmse')],
+      ['NRMSE (of the lab range)', c => num(c.nrmse)], ['R²', c => num(c.r2)], ['max |error|', c => withUnit(c, 'max_error')]];
+    const notes = [...(comparison.warnings || []).map(w => `warning: ${w}`),
+      ...(comparison.skipped || []).map(k => `not compared: ${k.curve}${k.stage != null ? ' stage ' + k.stage : ''}: ${k.reason}`)];
     this.metrics.replaceChildren(
       el('p', { class: 'hint' }, `comparison #${comparison.id}: run #${comparison.run_id} vs dataset #${comparison.dataset_id}`),
       el('table', { class: 'grid', id: 'metrics-table' },
-        el('tr', {}, cols.map(c => el('th', {}, c === 'r2' ? 'R²' : c.replace('_', ' ')))),
-        curves.map(c => el('tr', {}, cols.map(k => el('td', {}, num(c[k])))))));
+        el('tr', {}, cols.map(([h]) => el('th', {}, h))),
+        curves.map(c => el('tr', {}, cols.map(([, f]) => el('td', {}, f(c)))))),
+      notes.length ? el('ul', { class: 'error', id: 'comparison-warnings' }, notes.map(n => el('li', {}, n))) : null);
     this.curveSelect.replaceChildren(...curves.map((c, i) => el('option', { value: i }, `${c.curve}${c.stage != null ? ' stage ' + c.stage : ''}`)));
     this.showCurve();
   }

@@ -225,6 +225,10 @@ try {
   const metricRows = await page.$$eval('#metrics-table tr', rs => rs.map(r => [...r.children].map(c => c.textContent)));
   log('metrics:', JSON.stringify(metricRows), 'compare error:', await page.textContent('#comparison-error'));
   check(metricRows.length >= 2, 'the comparison metrics table has at least one curve');
+  // The lab curve has 21 readings: compared + dropped (outside the model's range) must add up.
+  const shearRow = metricRows.find(r => r[0] === 'stress_strain') || [];
+  check(Number(shearRow[2]) + Number(shearRow[3]) === 21 && /kPa$/.test(shearRow[4] || '') && /kPa$/.test(shearRow[7] || ''),
+    `q metrics: compared + dropped = 21 readings, RMSE and max error in kPa (${shearRow.join(' | ')})`);
   await page.waitForTimeout(300);
   const overlayPts = await points(page, 'plot-overlay');
   const residualPts = await points(page, 'plot-residual');
