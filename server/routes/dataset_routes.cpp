@@ -5,6 +5,8 @@
 #include "server/io/lab_format.hpp"
 #include "server/service.hpp"
 
+#include <algorithm>
+
 namespace triax::service {
 
 using nlohmann::json;
@@ -36,6 +38,17 @@ diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name
 void register_dataset_routes(Service& s) {
     s.route("POST", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
         if (req.body.empty()) throw bad_request("the request body is empty; upload the file as the body");
+        // Stored datasets are served as JSON (UTF-8 only): a bad byte is refused here with
+        // its position, instead of being stored and breaking every later listing.
+        if (const auto at = invalid_utf8_at(req.body); at != std::string::npos) {
+            const auto line_start = req.body.rfind('\n', at == 0 ? 0 : at - 1);
+            const auto head = std::string_view(req.body).substr(0, at);
+            const int line = 1 + static_cast<int>(std::count(head.begin(), head.end(), '\n'));
+            const int column = static_cast<int>(at - (line_start == std::string::npos || at == 0 ? 0 : line_start + 1)) + 1;
+            throw unprocessable("the file is not UTF-8 text: invalid byte at line " + std::to_string(line) + ", column " +
+                                std::to_string(column) + " (save it as UTF-8)")
+                .at(line, column);
+        }
         io::LabFormat format;
         if (req.has_param("format")) {
             auto f = io::lab_format_from_name(req.get_param_value("format"));
@@ -53,7 +66,17 @@ void register_dataset_routes(Service& s) {
             if (!e.field.empty()) err.at_field(e.field);
             throw err;
         }
+        // What is stored must read back: a reading that overflows when converted to SI
+        // (e.g. 1e308 kPa) would be stored as null and break every later use of the dataset.
+        try {
+            io::parse_lab_json(io::lab_dataset_to_json(d));
+        } catch (const io::LabParseError& e) {
+            throw unprocessable(std::string(io::lab_format_name(format)) +
+                                " upload: a value is out of range in SI units; stored it would read back as " + e.what())
+                .at_field(e.field);
+        }
         std::string name = req.has_param("name") ? req.get_param_value("name") : d.name;
+        if (invalid_utf8_at(name) != std::string::npos) throw bad_request("query parameter 'name' is not UTF-8 text");
         if (name.empty()) name = "dataset";
         if (name.size() > 200) throw unprocessable("name is longer than 200 characters").with_limit("name length <= 200");
         d.name = name;
