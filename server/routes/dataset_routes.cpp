@@ -1,6 +1,7 @@
 // POST /datasets (csv | gds | ags | json upload), GET /datasets, GET /datasets/{id},
 // DELETE /datasets/{id}. The stored form is the canonical dataset in lab units
 // (lab_dataset_to_json), so every format reads back the same way.
+#include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
 #include "server/io/lab_format.hpp"
 #include "server/service.hpp"
@@ -91,16 +92,15 @@ void register_dataset_routes(Service& s) {
         res.set_header("Location", "/datasets/" + std::to_string(id));
         send_json(res, dataset_header(id, name, fmt, created, d), 201);
     });
-    s.route("GET", "/datasets", [&s](const httplib::Request&, httplib::Response& res) {
-        json list = json::array();
-        s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, name, format, created_at, dataset_json FROM datasets ORDER BY id DESC");
-            while (st.step()) {
-                const auto d = io::parse_lab_json(json::parse(st.text(4)));
-                list.push_back(dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), d));
-            }
-        });
-        send_json(res, {{"datasets", list}});
+    s.route("GET", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto page = page_request(req);
+        send_json(res, s.db.with([&](Database& db) {
+            return read_page(db, page, "datasets", "SELECT id, name, format, created_at, dataset_json FROM datasets", "id",
+                             [](Statement& st) {
+                                 const auto d = io::parse_lab_json(json::parse(st.text(4)));
+                                 return dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), d);
+                             });
+        }));
     });
     s.route("GET", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);
