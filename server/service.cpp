@@ -61,6 +61,17 @@ void Service::register_routes() {
     const auto threads = static_cast<std::size_t>(config.http_threads);
     http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
     http.set_payload_max_length(config.max_body_bytes);
+    // A request with neither Content-Length nor Transfer-Encoding has an empty body
+    // (RFC 9112 6.3). cpp-httplib 0.11 instead reads such a POST/DELETE until the client
+    // closes, i.e. until its read timeout, and answers 400 (`curl -X POST .../cancel`).
+    // The pre-routing handler runs before the body is read, so stating the empty length
+    // here makes it read nothing. The Request is a non-const local of httplib's connection
+    // loop, so writing through the const reference is defined.
+    http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response&) {
+        if (!req.has_header("Content-Length") && !req.has_header("Transfer-Encoding"))
+            const_cast<httplib::Request&>(req).headers.emplace("Content-Length", "0");
+        return httplib::Server::HandlerResponse::Unhandled;
+    });
     http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
         try {
             std::rethrow_exception(ep);

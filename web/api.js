@@ -97,3 +97,28 @@ export function el(tag, attrs = {}, ...children) {
   for (const c of children.flat()) if (c != null) e.append(c instanceof Node ? c : String(c));
   return e;
 }
+
+// The list endpoints (GET /runs, /datasets, /comparisons, /diagnoses, /schemes) answer one
+// page, newest first: `limit` items (server default 50, at most 500) before the cursor
+// `before_id`. Reads pages until `count` items or the end of the list.
+export const PAGE = 50;
+export async function getList(path, key, count = PAGE) {
+  const items = [];
+  let before = null, total = 0;
+  do {
+    const q = new URLSearchParams({ limit: String(Math.min(500, count - items.length)) });
+    if (before != null) q.set('before_id', String(before));
+    const page = await getJSON(`${path}?${q}`);
+    items.push(...(page[key] || []));
+    total = page.total ?? items.length;
+    before = page.next_before_id ?? null;
+  } while (before != null && items.length < count);
+  return { items, total, more: before != null };
+}
+
+// "more" under a paged table: shows how many of how many, and asks for one page more.
+export function moreButton(id, shown, total, onclick) {
+  return shown < total
+    ? el('button', { type: 'button', class: 'more', id, onclick }, `more (${shown} of ${total} shown)`)
+    : el('span', { class: 'hint', id }, total ? `all ${total} shown` : '');
+}

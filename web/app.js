@@ -2,7 +2,7 @@
 // form, the runs list and the activity line in the header that shows every active run's
 // stage, progress and ETA wherever the user is on the page.
 
-import { el, getJSON, postJSON, ProblemError, progressElement } from './api.js';
+import { el, getJSON, getList, moreButton, PAGE, postJSON, ProblemError, progressElement } from './api.js';
 import { SchemeForm } from './scheme_form.js';
 import { RunView } from './run_view.js';
 import { CompareView } from './compare_view.js';
@@ -82,11 +82,14 @@ async function showNewRun() {
 function showRuns() {
   const table = el('table', { class: 'grid', id: 'runs-table' });
   const error = el('div', { class: 'field-error' });
-  main.replaceChildren(el('h2', {}, 'Runs'), table, error);
-  let timer = null;
+  const more = el('div', { class: 'row' });
+  main.replaceChildren(el('h2', {}, 'Runs'), table, more, error);
+  let timer = null, wanted = PAGE;
   const refresh = async () => {
+    clearTimeout(timer);
     try {
-      const { runs } = await getJSON('/runs');
+      const { items: runs, total } = await getList('/runs', 'runs', wanted);
+      more.replaceChildren(moreButton('runs-more', runs.length, total, () => { wanted += PAGE; refresh(); }));
       table.replaceChildren(
         el('tr', {}, ['id', 'name', 'status', 'progress (stage · % · ETA)', 'created', ''].map(h => el('th', {}, h))),
         ...runs.map(r => el('tr', { dataset: { runId: r.id } },

@@ -3,7 +3,7 @@
 // model and lab for one curve, and its residual. Downloads: the residual table as CSV,
 // each plot as PNG/CSV.
 
-import { el, getJSON, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
+import { el, getJSON, getList, moreButton, PAGE, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
 import { Plot, downloadBlob } from './plot.js';
 
 const CONTENT_TYPES = { json: 'application/json', csv: 'text/csv', gds: 'text/csv', ags: 'text/plain' };
@@ -43,6 +43,8 @@ export class CompareView {
       this.uploadError, this.uploadInfo);
 
     this.datasetTable = el('table', { class: 'grid', id: 'dataset-table' });
+    this.datasetMore = el('div', { class: 'row' });
+    this.datasetCount = PAGE;
     this.runSelect = el('select', { id: 'compare-run' });
     this.datasetSelect = el('select', { id: 'compare-dataset' });
     this.compareError = el('div', { class: 'field-error', id: 'comparison-error', role: 'alert' });
@@ -66,7 +68,7 @@ export class CompareView {
     this.residual = new Plot(grid, { id: 'plot-residual', title: 'Residual (model − lab)', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'residual' });
 
     this.container.replaceChildren(el('h2', {}, 'Lab readings'), upload,
-      el('section', { class: 'card' }, el('h3', {}, 'Datasets'), this.datasetTable), pick, result);
+      el('section', { class: 'card' }, el('h3', {}, 'Datasets'), this.datasetTable, this.datasetMore), pick, result);
   }
 
   // Overlapping refreshes (page load, then an upload) must not let the older answer
@@ -74,7 +76,7 @@ export class CompareView {
   async refreshLists() {
     const seq = this.listSeq = (this.listSeq || 0) + 1;
     try {
-      const [{ runs }, { datasets }] = await Promise.all([getJSON('/runs'), getJSON('/datasets')]);
+      const [{ runs }, { items: datasets, total }] = await Promise.all([getJSON('/runs'), getList('/datasets', 'datasets', this.datasetCount)]);
       if (seq !== this.listSeq) return;
       const keepRun = this.runSelect.value, keepSet = this.datasetSelect.value;
       this.runSelect.replaceChildren(...runs.map(r => el('option', { value: r.id }, `#${r.id} ${r.name || ''} (${r.status})`)));
@@ -83,6 +85,7 @@ export class CompareView {
       this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
       if (keepSet && datasets.some(d => String(d.id) === keepSet)) this.datasetSelect.value = keepSet;
       this.renderDatasets(datasets);
+      this.datasetMore.replaceChildren(moreButton('datasets-more', datasets.length, total, () => { this.datasetCount += PAGE; this.refreshLists(); }));
     } catch (e) { this.compareError.textContent = e.message; }
   }
 
@@ -132,12 +135,20 @@ export class CompareView {
   show(comparison) {
     this.comparison = comparison;
     const curves = comparison.curves || [];
-    const cols = ['curve', 'stage', 'n', 'rmse', 'nrmse', 'r2', 'max_error', 'unit'];
+    // RMSE and max error carry the curve's unit in the cell; NRMSE is relative to the lab
+    // range. Lab readings outside the model's range are not compared: `dropped` says how many.
+    const withUnit = (c, k) => (typeof c[k] === 'number' ? `${num(c[k])}${c.unit ? ' ' + c.unit : ''}` : num(c[k]));
+    const cols = [['curve', c => c.curve], ['stage', c => num(c.stage)], ['readings compared', c => num(c.n)],
+      ['dropped (outside the model range)', c => num(c.dropped)], ['RMSE', c => withUnit(c, 'rmse')],
+      ['NRMSE (of the lab range)', c => num(c.nrmse)], ['R²', c => num(c.r2)], ['max |error|', c => withUnit(c, 'max_error')]];
+    const notes = [...(comparison.warnings || []).map(w => `warning: ${w}`),
+      ...(comparison.skipped || []).map(k => `not compared: ${k.curve}${k.stage != null ? ' stage ' + k.stage : ''}: ${k.reason}`)];
     this.metrics.replaceChildren(
       el('p', { class: 'hint' }, `comparison #${comparison.id}: run #${comparison.run_id} vs dataset #${comparison.dataset_id}`),
       el('table', { class: 'grid', id: 'metrics-table' },
-        el('tr', {}, cols.map(c => el('th', {}, c === 'r2' ? 'R²' : c.replace('_', ' ')))),
-        curves.map(c => el('tr', {}, cols.map(k => el('td', {}, num(c[k])))))));
+        el('tr', {}, cols.map(([h]) => el('th', {}, h))),
+        curves.map(c => el('tr', {}, cols.map(([, f]) => el('td', {}, f(c)))))),
+      notes.length ? el('ul', { class: 'error', id: 'comparison-warnings' }, notes.map(n => el('li', {}, n))) : null);
     this.curveSelect.replaceChildren(...curves.map((c, i) => el('option', { value: i }, `${c.curve}${c.stage != null ? ' stage ' + c.stage : ''}`)));
     this.showCurve();
   }

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 
 namespace triax::service {
 
@@ -17,12 +18,39 @@ nlohmann::json problem_json(const ApiError& e, const std::string& instance) {
 
 void send_problem(httplib::Response& res, const ApiError& e, const std::string& instance) {
     res.status = e.status;
-    res.set_content(problem_json(e, instance).dump(), "application/problem+json");
+    // `replace`: a detail quoting bad bytes of an upload must still be sent; a throwing
+    // dump here would escape the exception handler and end the process.
+    res.set_content(problem_json(e, instance).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                    "application/problem+json");
 }
 
 void send_json(httplib::Response& res, const nlohmann::json& body, int status) {
     res.status = status;
-    res.set_content(body.dump(), "application/json");
+    res.set_content(body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
+}
+
+std::size_t invalid_utf8_at(std::string_view s) {
+    std::size_t i = 0;
+    while (i < s.size()) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        // Lead byte: payload length and the smallest code point it may encode (no overlongs).
+        std::size_t n = 0;
+        std::uint32_t cp = 0, min = 0;
+        if (c < 0x80) { ++i; continue; }
+        if ((c & 0xE0) == 0xC0) { n = 1; cp = c & 0x1F; min = 0x80; }
+        else if ((c & 0xF0) == 0xE0) { n = 2; cp = c & 0x0F; min = 0x800; }
+        else if ((c & 0xF8) == 0xF0) { n = 3; cp = c & 0x07; min = 0x10000; }
+        else return i;
+        for (std::size_t k = 1; k <= n; ++k) {
+            if (i + k >= s.size()) return i;
+            const auto b = static_cast<unsigned char>(s[i + k]);
+            if ((b & 0xC0) != 0x80) return i;
+            cp = (cp << 6) | (b & 0x3F);
+        }
+        if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) return i;
+        i += n + 1;
+    }
+    return std::string_view::npos;
 }
 
 nlohmann::json parse_body(const httplib::Request& req) {
@@ -31,6 +59,8 @@ nlohmann::json parse_body(const httplib::Request& req) {
         return nlohmann::json::parse(req.body);
     } catch (const nlohmann::json::parse_error& e) {
         throw bad_request("request body is not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
+    } catch (const nlohmann::json::exception& e) {  // e.g. a number beyond double (1e400)
+        throw bad_request(std::string("request body is not usable JSON: ") + e.what());
     }
 }
 

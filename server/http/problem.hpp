@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace triax::service {
 
@@ -33,6 +34,9 @@ nlohmann::json problem_json(const ApiError& e, const std::string& instance);
 void send_problem(httplib::Response& res, const ApiError& e, const std::string& instance);
 void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
 
+// Byte offset of the first byte that is not well-formed UTF-8, or npos. Stored text is
+// served as JSON, which must be UTF-8: bad bytes are refused at the door, not at reading.
+std::size_t invalid_utf8_at(std::string_view s);
 // Parses a request body as JSON or throws 400 naming the byte offset.
 nlohmann::json parse_body(const httplib::Request& req);
 // Integer path parameter (matches[1] by default) or 404.

@@ -1,4 +1,5 @@
 #include "server/io/lab_format.hpp"
+#include "server/io/lab_table.hpp"
 
 #include <cmath>
 #include <map>
@@ -73,14 +74,9 @@ diagnose::LabDataset parse_lab_ags(std::string_view text) {
         auto c = column(g, name);
         if (!c || r.fields[*c].empty()) return 0.0;
         const auto& s = r.fields[*c];
-        double v = 0.0;
-        try {
-            std::size_t used = 0;
-            v = std::stod(s, &used);
-            if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument(s);
-        } catch (const std::exception&) {
-            throw LabParseError(name + ": '" + s + "' is not a finite number", r.line, r.columns[*c]);
-        }
+        const auto parsed = finite_number(s);
+        if (!parsed) throw LabParseError(name + ": '" + s + "' is not a finite number", r.line, r.columns[*c]);
+        const double v = *parsed;
         const std::string unit = g.units.size() > *c ? g.units[*c] : std::string();
         const auto* ur = unit_rows.count(group_name) ? unit_rows.at(group_name) : &r;
         return v * to_si_factor(unit, *ur, *c);

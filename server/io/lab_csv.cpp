@@ -95,17 +95,21 @@ void LabCurveCollector::add(CurveKind kind, int stage, double confining_pa, doub
 
 std::vector<diagnose::LabCurve> LabCurveCollector::finish() { return std::move(curves_); }
 
-namespace {
-
-double parse_number(const std::string& s, const LabCellOrigin& o, const std::string& column_name) {
+std::optional<double> finite_number(const std::string& s) {
     try {
         std::size_t used = 0;
         const double v = std::stod(s, &used);
-        if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument(s);
-        return v;
-    } catch (const std::exception&) {
-        throw_at(o, "column '" + column_name + "': '" + s + "' is not a finite number");
+        if (used == s.size() && std::isfinite(v)) return v;
+    } catch (const std::exception&) {  // not a number, or beyond double
     }
+    return std::nullopt;
+}
+
+namespace {
+
+double parse_number(const std::string& s, const LabCellOrigin& o, const std::string& column_name) {
+    if (const auto v = finite_number(s)) return *v;
+    throw_at(o, "column '" + column_name + "': '" + s + "' is not a finite number");
 }
 
 }  // namespace

@@ -41,14 +41,8 @@ std::string normalise(const std::string& s) {
 
 double number_in(const CsvRecord& r, std::size_t c, const std::string& name) {
     const auto& s = r.fields[c];
-    try {
-        std::size_t used = 0;
-        const double v = std::stod(s, &used);
-        if (used != s.size() || !std::isfinite(v)) throw std::invalid_argument(s);
-        return v;
-    } catch (const std::exception&) {
-        throw LabParseError("column '" + name + "': '" + s + "' is not a finite number", r.line, r.columns[c]);
-    }
+    if (const auto v = finite_number(s)) return *v;
+    throw LabParseError("column '" + name + "': '" + s + "' is not a finite number", r.line, r.columns[c]);
 }
 
 struct Reading {
@@ -76,11 +70,13 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
         if (is_header) break;
         if (f.size() >= 2) {  // preamble "key, value"
             const auto key = normalise(f[0]);
-            try {
-                if (key.rfind("initial height", 0) == 0 || key == "height (mm)") height_mm = std::stod(f[1]);
-                if (key.rfind("initial diameter", 0) == 0 || key == "diameter (mm)") diameter_mm = std::stod(f[1]);
-            } catch (const std::exception&) {
-                throw LabParseError("'" + f[0] + "' must be a number", records[h].line, records[h].columns[1]);
+            const bool height = key.rfind("initial height", 0) == 0 || key == "height (mm)";
+            const bool diameter = key.rfind("initial diameter", 0) == 0 || key == "diameter (mm)";
+            if (height || diameter) {
+                // The whole cell: "nan" or "80 mm" used to pass (std::stod alone).
+                const auto v = finite_number(f[1]);
+                if (!v) throw LabParseError("'" + f[0] + "' must be a finite number", records[h].line, records[h].columns[1]);
+                (height ? height_mm : diameter_mm) = *v;
             }
         }
     }

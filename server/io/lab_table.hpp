@@ -21,6 +21,11 @@ struct LabColumn {
 // nullopt when the name is not part of the vocabulary.
 std::optional<LabColumn> lab_column(const std::string& name);
 
+// The whole text as a finite number ("1.5e3"); nullopt for anything else ("", "12 mm",
+// "nan", "inf", beyond double). Every lab format reads its numbers through this, so they
+// agree on what a reading is; each names the cell its own way when it is not one.
+std::optional<double> finite_number(const std::string& s);
+
 // Where a value came from, for error messages: a line/column or a JSON pointer.
 struct LabCellOrigin {
     int line = 0, column = 0;

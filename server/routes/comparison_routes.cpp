@@ -6,6 +6,7 @@
 //                   (volumetric_strain_pct vs axial_strain_pct) when measured;
 //   creep stage k -> creep stage k (axial_deformation_mm vs time_min, or axial_strain_pct).
 #include "engine/diagnose/metrics.hpp"
+#include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
 #include "server/runs/series.hpp"
 #include "server/service.hpp"
@@ -151,17 +152,16 @@ void register_comparison_routes(Service& s) {
         res.set_header("Location", "/comparisons/" + std::to_string(id));
         send_json(res, result, 201);
     });
-    s.route("GET", "/comparisons", [&s](const httplib::Request&, httplib::Response& res) {
-        json list = json::array();
-        s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons ORDER BY id DESC");
-            while (st.step()) {
-                auto c = load_comparison(st);
-                for (auto& curve : c["curves"]) curve.erase("residual");  // listing: metrics only
-                list.push_back(std::move(c));
-            }
-        });
-        send_json(res, {{"comparisons", list}});
+    s.route("GET", "/comparisons", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto page = page_request(req);
+        send_json(res, s.db.with([&](Database& db) {
+            return read_page(db, page, "comparisons", "SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons",
+                             "id", [](Statement& st) {
+                                 auto c = load_comparison(st);
+                                 for (auto& curve : c["curves"]) curve.erase("residual");  // listing: metrics only
+                                 return c;
+                             });
+        }));
     });
     s.route("GET", R"(/comparisons/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);

@@ -1,9 +1,12 @@
 // POST /datasets (csv | gds | ags | json upload), GET /datasets, GET /datasets/{id},
 // DELETE /datasets/{id}. The stored form is the canonical dataset in lab units
 // (lab_dataset_to_json), so every format reads back the same way.
+#include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
 #include "server/io/lab_format.hpp"
 #include "server/service.hpp"
+
+#include <algorithm>
 
 namespace triax::service {
 
@@ -36,6 +39,17 @@ diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name
 void register_dataset_routes(Service& s) {
     s.route("POST", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
         if (req.body.empty()) throw bad_request("the request body is empty; upload the file as the body");
+        // Stored datasets are served as JSON (UTF-8 only): a bad byte is refused here with
+        // its position, instead of being stored and breaking every later listing.
+        if (const auto at = invalid_utf8_at(req.body); at != std::string::npos) {
+            const auto line_start = req.body.rfind('\n', at == 0 ? 0 : at - 1);
+            const auto head = std::string_view(req.body).substr(0, at);
+            const int line = 1 + static_cast<int>(std::count(head.begin(), head.end(), '\n'));
+            const int column = static_cast<int>(at - (line_start == std::string::npos || at == 0 ? 0 : line_start + 1)) + 1;
+            throw unprocessable("the file is not UTF-8 text: invalid byte at line " + std::to_string(line) + ", column " +
+                                std::to_string(column) + " (save it as UTF-8)")
+                .at(line, column);
+        }
         io::LabFormat format;
         if (req.has_param("format")) {
             auto f = io::lab_format_from_name(req.get_param_value("format"));
@@ -53,7 +67,17 @@ void register_dataset_routes(Service& s) {
             if (!e.field.empty()) err.at_field(e.field);
             throw err;
         }
+        // What is stored must read back: a reading that overflows when converted to SI
+        // (e.g. 1e308 kPa) would be stored as null and break every later use of the dataset.
+        try {
+            io::parse_lab_json(io::lab_dataset_to_json(d));
+        } catch (const io::LabParseError& e) {
+            throw unprocessable(std::string(io::lab_format_name(format)) +
+                                " upload: a value is out of range in SI units; stored it would read back as " + e.what())
+                .at_field(e.field);
+        }
         std::string name = req.has_param("name") ? req.get_param_value("name") : d.name;
+        if (invalid_utf8_at(name) != std::string::npos) throw bad_request("query parameter 'name' is not UTF-8 text");
         if (name.empty()) name = "dataset";
         if (name.size() > 200) throw unprocessable("name is longer than 200 characters").with_limit("name length <= 200");
         d.name = name;
@@ -68,16 +92,15 @@ void register_dataset_routes(Service& s) {
         res.set_header("Location", "/datasets/" + std::to_string(id));
         send_json(res, dataset_header(id, name, fmt, created, d), 201);
     });
-    s.route("GET", "/datasets", [&s](const httplib::Request&, httplib::Response& res) {
-        json list = json::array();
-        s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, name, format, created_at, dataset_json FROM datasets ORDER BY id DESC");
-            while (st.step()) {
-                const auto d = io::parse_lab_json(json::parse(st.text(4)));
-                list.push_back(dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), d));
-            }
-        });
-        send_json(res, {{"datasets", list}});
+    s.route("GET", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto page = page_request(req);
+        send_json(res, s.db.with([&](Database& db) {
+            return read_page(db, page, "datasets", "SELECT id, name, format, created_at, dataset_json FROM datasets", "id",
+                             [](Statement& st) {
+                                 const auto d = io::parse_lab_json(json::parse(st.text(4)));
+                                 return dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), d);
+                             });
+        }));
     });
     s.route("GET", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);

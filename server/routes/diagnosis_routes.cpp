@@ -4,6 +4,7 @@
 // calls diagnose::run_diagnosis (engine/diagnose) and stores the report
 // (server/io/diagnosis_json) with its event history.
 #include "engine/diagnose/diagnosis.hpp"
+#include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
 #include "server/http/sse.hpp"
 #include "server/io/diagnosis_json.hpp"
@@ -190,18 +191,16 @@ void register_diagnosis_routes(Service& s) {
         res.set_header("Location", "/diagnoses/" + std::to_string(id));
         send_json(res, {{"id", id}, {"status", "queued"}}, 202);
     });
-    s.route("GET", "/diagnoses", [&s](const httplib::Request&, httplib::Response& res) {
-        json list = json::array();
-        s.db.with([&](Database& db) {
-            auto st = db.prepare(std::string(kSelect) + " ORDER BY id DESC");
-            while (st.step()) {
+    s.route("GET", "/diagnoses", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto page = page_request(req);
+        send_json(res, s.db.with([&](Database& db) {
+            return read_page(db, page, "diagnoses", kSelect, "id", [](Statement& st) {
                 auto d = diagnosis_json(st);
                 if (d["report"].is_object()) d["chosen_effect"] = d["report"].value("chosen_effect", "");
                 d.erase("report");
-                list.push_back(std::move(d));
-            }
-        });
-        send_json(res, {{"diagnoses", list}});
+                return d;
+            });
+        }));
     });
     s.route("GET", R"(/diagnoses/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);

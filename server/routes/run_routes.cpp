@@ -42,7 +42,9 @@ void register_run_routes(Service& s) {
         res.set_header("Location", "/runs/" + std::to_string(out["id"].get<std::int64_t>()));
         send_json(res, out, 202);
     });
-    s.route("GET", "/runs", [&s](const httplib::Request&, httplib::Response& res) { send_json(res, s.runs.list()); });
+    s.route("GET", "/runs", [&s](const httplib::Request& req, httplib::Response& res) {
+        send_json(res, s.runs.list(page_request(req)));
+    });
     s.route("GET", R"(/runs/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         send_json(res, s.runs.status(path_id(req)));
     });

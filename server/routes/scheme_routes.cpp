@@ -3,6 +3,7 @@
 // engine's own TestScheme::validate through scheme_from_json, and the service's size limit
 // on the estimated particle count (so nobody queues a 1e9-particle run).
 #include "engine/protocol/gradation.hpp"
+#include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
 #include "server/io/scheme_json.hpp"
 #include "server/service.hpp"
@@ -79,13 +80,13 @@ void register_scheme_routes(Service& s) {
     s.route("POST", "/schemes", [&s](const httplib::Request& req, httplib::Response& res) {
         send_json(res, store_scheme(s, parse_body(req), ""), 201);
     });
-    s.route("GET", "/schemes", [&s](const httplib::Request&, httplib::Response& res) {
-        json list = json::array();
-        s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, name, created_at FROM schemes ORDER BY id DESC");
-            while (st.step()) list.push_back({{"id", st.int64(0)}, {"name", st.text(1)}, {"created_at", st.text(2)}});
-        });
-        send_json(res, {{"schemes", list}});
+    s.route("GET", "/schemes", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto page = page_request(req);
+        send_json(res, s.db.with([&](Database& db) {
+            return read_page(db, page, "schemes", "SELECT id, name, created_at FROM schemes", "id", [](Statement& st) {
+                return json{{"id", st.int64(0)}, {"name", st.text(1)}, {"created_at", st.text(2)}};
+            });
+        }));
     });
     s.route("GET", R"(/schemes/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);

@@ -125,13 +125,8 @@ bool RunService::exists(std::int64_t id) {
     });
 }
 
-json RunService::list() {
-    return db_.with([&](Database& db) {
-        json runs = json::array();
-        auto st = db.prepare(std::string(kStatusColumns) + " ORDER BY r.id DESC");
-        while (st.step()) runs.push_back(status_row(st));
-        return json{{"runs", runs}};
-    });
+json RunService::list(const PageRequest& page) {
+    return db_.with([&](Database& db) { return read_page(db, page, "runs", kStatusColumns, "r.id", status_row); });
 }
 
 std::optional<json> RunService::result(std::int64_t id) {

@@ -4,6 +4,7 @@
 // history in `run_events`; every state change and its event are written in one transaction
 // so the row and the stream never disagree, even after kill -9.
 #include "server/events/event_log.hpp"
+#include "server/http/paging.hpp"
 #include "server/jobs/job_queue.hpp"
 #include "server/runs/run_executor.hpp"
 #include "server/store/database.hpp"
@@ -32,7 +33,7 @@ public:
     nlohmann::json rerun(std::int64_t id);
 
     nlohmann::json status(std::int64_t id);  // 404 if unknown
-    nlohmann::json list();
+    nlohmann::json list(const PageRequest& page);  // newest first, one page
     bool exists(std::int64_t id);
     // The stored result document (summary + series) once done.
     std::optional<nlohmann::json> result(std::int64_t id);

@@ -100,6 +100,20 @@ TEST_CASE("GDS-Lab export errors", "[server][lab]") {
         CHECK(e.line == 3);
         CHECK(e.column == 3);
     }
+    // The preamble's specimen size is a whole finite number ("nan" and "80 mm" used to pass).
+    for (const char* height : {"nan", "80 mm", "inf"}) {
+        INFO(height);
+        try {
+            io::parse_lab_gds(std::string("Initial Height (mm),") + height +
+                              "\nStage Number,Time since start of stage (s),Radial Pressure (kPa),Axial Displacement (mm),"
+                              "Deviator Stress (kPa)\n1,0,100,0,0\n1,1,100,1,50\n");
+            FAIL("no error");
+        } catch (const io::LabParseError& e) {
+            CHECK(e.line == 1);
+            CHECK(e.column > 1);
+            CHECK(std::string(e.what()).find("Initial Height") != std::string::npos);
+        }
+    }
 }
 
 TEST_CASE("AGS4 TRET/TREG summary rows with units", "[server][lab]") {

@@ -9,6 +9,13 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -130,6 +137,37 @@ public:
         return wrap(client().Post(path.c_str(), body, type));
     }
     Reply post(const std::string& path, const json& body) const { return post(path, body.dump()); }
+    // A POST with no body and neither Content-Length nor Transfer-Encoding (what
+    // `curl -X POST URL` sends), over a raw socket; gives up after 3 s without an answer.
+    Reply post_without_length(const std::string& path) const {
+        const int fd = socket(AF_INET, SOCK_STREAM, 0);
+        REQUIRE(fd >= 0);
+        timeval tv{3, 0};
+        setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(static_cast<std::uint16_t>(port_));
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+        const std::string request = "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+        REQUIRE(send(fd, request.data(), request.size(), 0) == static_cast<ssize_t>(request.size()));
+        std::string raw;
+        char buf[4096];
+        for (ssize_t n; (n = recv(fd, buf, sizeof buf, 0)) > 0;) raw.append(buf, static_cast<std::size_t>(n));
+        close(fd);
+        INFO("raw answer to body-less POST " << path << ": '" << raw << "'");
+        const auto head_end = raw.find("\r\n\r\n");
+        REQUIRE(raw.rfind("HTTP/1.1 ", 0) == 0);
+        REQUIRE(head_end != std::string::npos);
+        Reply out;
+        out.status = std::stoi(raw.substr(9, 3));
+        out.text = raw.substr(head_end + 4);
+        const auto ct = raw.find("Content-Type: ");
+        if (ct != std::string::npos && ct < head_end)
+            out.content_type = raw.substr(ct + 14, raw.find("\r\n", ct) - ct - 14);
+        if (out.content_type.find("json") != std::string::npos && !out.text.empty()) out.body = json::parse(out.text);
+        return out;
+    }
 
     struct Event {
         long long id = 0;

@@ -225,6 +225,10 @@ try {
   const metricRows = await page.$$eval('#metrics-table tr', rs => rs.map(r => [...r.children].map(c => c.textContent)));
   log('metrics:', JSON.stringify(metricRows), 'compare error:', await page.textContent('#comparison-error'));
   check(metricRows.length >= 2, 'the comparison metrics table has at least one curve');
+  // The lab curve has 21 readings: compared + dropped (outside the model's range) must add up.
+  const shearRow = metricRows.find(r => r[0] === 'stress_strain') || [];
+  check(Number(shearRow[2]) + Number(shearRow[3]) === 21 && /kPa$/.test(shearRow[4] || '') && /kPa$/.test(shearRow[7] || ''),
+    `q metrics: compared + dropped = 21 readings, RMSE and max error in kPa (${shearRow.join(' | ')})`);
   await page.waitForTimeout(300);
   const overlayPts = await points(page, 'plot-overlay');
   const residualPts = await points(page, 'plot-residual');
@@ -290,6 +294,23 @@ try {
   await page.screenshot({ path: path.join(shots, '07_diagnosis_report.png'), fullPage: true });
   await page.unrouteAll();
   await page.screenshot({ path: path.join(shots, '06_diagnosis_panel.png'), fullPage: true });
+
+  // ---- 6. paged lists: the datasets table shows one page (50) and a "more" control ------
+  const tinyCsv = 'confining_kPa,axial_strain_pct,q_kPa\n100,0.5,80\n100,1,120\n';
+  for (let i = 0; i < 52; i++) {
+    const r = await fetch(`${base}/datasets?format=csv&name=page-${i}`, { method: 'POST', headers: { 'Content-Type': 'text/csv' }, body: tinyCsv });
+    if (r.status !== 201) throw new Error(`dataset upload ${i} answered ${r.status}`);
+  }
+  const total = (await (await fetch(`${base}/datasets?limit=1`)).json()).total;
+  await page.goto(`${base}/#/compare`);
+  await page.waitForSelector('#datasets-more', { timeout: 10000 });
+  const firstRows = await page.$$eval('#dataset-table tr', rs => rs.length - 1);
+  const moreText = await page.textContent('#datasets-more');
+  check(firstRows === 50 && moreText.includes(`50 of ${total}`), `the datasets table shows one page of 50 and says so (${firstRows} rows, "${moreText}")`);
+  await page.click('#datasets-more');
+  await page.waitForFunction(n => document.querySelectorAll('#dataset-table tr').length - 1 === n, total, { timeout: 10000 }).catch(() => {});
+  const allRows = await page.$$eval('#dataset-table tr', rs => rs.length - 1);
+  check(allRows === total && !(await page.$('button#datasets-more')), `"more" shows the rest (${allRows} of ${total}, no more button)`);
 } catch (e) {
   failures++;
   console.error('[browser-test] FAIL', e && e.stack ? e.stack : e);
