@@ -77,6 +77,15 @@ T bounded(const json& body, const char* key, T lo, T hi, T fallback) {
     return static_cast<T>(x);
 }
 
+bool flag(const json& body, const char* key, bool fallback) {
+    if (!body.contains(key)) return fallback;
+    const json& v = body.at(key);
+    if (!v.is_boolean())
+        throw DiagnosisRequestError(std::string("/") + key,
+                                    std::string(key) + " must be true or false, got " + std::string(v.type_name()));
+    return v.get<bool>();
+}
+
 }  // namespace
 
 json candidate_to_json(const CandidateResult& c) {
@@ -169,7 +178,21 @@ DiagnoseOptions diagnose_options_from_json(const json& body) {
     o.max_particles = bounded(body, "max_particles", 0, 1000000, o.max_particles);
     o.seed = bounded<std::uint64_t>(body, "seed", 0, std::uint64_t{1} << 53, o.seed);
     o.bic_threshold = bounded(body, "bic_threshold", 0.0, 1e6, o.bic_threshold);
+    o.finite_difference_uncertainty = flag(body, "finite_difference_uncertainty", o.finite_difference_uncertainty);
     return o;
+}
+
+json diagnose_options_to_json(const DiagnoseOptions& o) {
+    return {{"budget_runs", o.budget_runs},
+            {"refine_runs", o.refine_runs},
+            {"max_candidates", o.max_candidates},
+            {"max_effects", o.max_effects},
+            {"concurrency", o.concurrency},
+            {"threads_per_run", o.threads_per_run},
+            {"max_particles", o.max_particles},
+            {"seed", o.seed},
+            {"bic_threshold", o.bic_threshold},
+            {"finite_difference_uncertainty", o.finite_difference_uncertainty}};
 }
 
 }  // namespace triax::io

@@ -32,8 +32,13 @@ nlohmann::json candidate_to_json(const diagnose::CandidateResult& candidate);
 // Optional fields: budget_runs (4..400), refine_runs (1..100), max_candidates (1..6),
 // max_effects (1..6), concurrency (1..64), threads_per_run (1..64), max_particles
 // (0..1e6, 0 = the scheme's), seed (>= 0),
-// bic_threshold (>= 0). Unknown fields are ignored (the body also carries the scheme);
+// bic_threshold (>= 0), finite_difference_uncertainty (true/false: the parameters' std from
+// a forward-difference Jacobian at the optimum, k extra runs per reported model, or from
+// the regression over the runs already made). Unknown fields are ignored (the body also carries the scheme);
 // null means all defaults.
 diagnose::DiagnoseOptions diagnose_options_from_json(const nlohmann::json& body);
+// Every option with the value the diagnosis uses (defaults filled in): the `options` of
+// GET /diagnoses/{id}, so a report says how it was made.
+nlohmann::json diagnose_options_to_json(const diagnose::DiagnoseOptions& options);
 
 }  // namespace triax::io

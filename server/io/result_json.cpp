@@ -35,6 +35,9 @@ json result_summary_to_json(const TestResult& r) {
             {"membrane_particle_count", r.membrane_particle_count},
             {"initial_porosity", r.initial_porosity},
             {"max_inertial_number", r.max_inertial_number},
+            // The density I was computed with (density-scaled grains, docs/protocol.md):
+            // without it the inertial number cannot be checked or compared across runs.
+            {"inertial_density_kg_m3", r.inertial_density_kg_m3},
             {"measurement_sphere_radius_mm", r.measurement_sphere_radius_m * kMm},
             {"consolidation",
              {{"unbalanced_force_ratio", r.consolidation.unbalanced_force_ratio},

@@ -110,11 +110,15 @@ json diagnosis_json(Statement& st) {
              {"finished_at", st.is_null(6) ? json(nullptr) : json(st.text(6))},
              {"error", st.is_null(7) ? json(nullptr) : json(st.text(7))}};
     out["report"] = st.is_null(4) ? json(nullptr) : json::parse(st.text(4));
+    // The options as the diagnosis reads them (the request was validated when it was
+    // accepted, so this parse does not throw).
+    out["options"] = io::diagnose_options_to_json(io::diagnose_options_from_json(json::parse(st.text(8)).at("options")));
     return out;
 }
 
 const char* kSelect =
-    "SELECT id, dataset_id, status, progress_pct, report_json, created_at, finished_at, error FROM diagnoses";
+    "SELECT id, dataset_id, status, progress_pct, report_json, created_at, finished_at, error, request_json "
+    "FROM diagnoses";
 
 }  // namespace
 
@@ -192,14 +196,17 @@ void register_diagnosis_routes(Service& s) {
         send_json(res, {{"id", id}, {"status", "queued"}}, 202);
     });
     s.route("GET", "/diagnoses", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto page = page_request(req);
+        const auto page = page_request(req, true);
         send_json(res, s.db.with([&](Database& db) {
-            return read_page(db, page, "diagnoses", kSelect, "id", [](Statement& st) {
-                auto d = diagnosis_json(st);
-                if (d["report"].is_object()) d["chosen_effect"] = d["report"].value("chosen_effect", "");
-                d.erase("report");
-                return d;
-            });
+            return read_page(
+                db, page, "diagnoses", kSelect, "id",
+                [](Statement& st) {
+                    auto d = diagnosis_json(st);
+                    if (d["report"].is_object()) d["chosen_effect"] = d["report"].value("chosen_effect", "");
+                    d.erase("report");
+                    return d;
+                },
+                "status");
         }));
     });
     s.route("GET", R"(/diagnoses/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {

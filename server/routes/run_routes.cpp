@@ -43,7 +43,7 @@ void register_run_routes(Service& s) {
         send_json(res, out, 202);
     });
     s.route("GET", "/runs", [&s](const httplib::Request& req, httplib::Response& res) {
-        send_json(res, s.runs.list(page_request(req)));
+        send_json(res, s.runs.list(page_request(req, true)));
     });
     s.route("GET", R"(/runs/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         send_json(res, s.runs.status(path_id(req)));

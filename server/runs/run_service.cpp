@@ -126,7 +126,7 @@ bool RunService::exists(std::int64_t id) {
 }
 
 json RunService::list(const PageRequest& page) {
-    return db_.with([&](Database& db) { return read_page(db, page, "runs", kStatusColumns, "r.id", status_row); });
+    return db_.with([&](Database& db) { return read_page(db, page, "runs", kStatusColumns, "r.id", status_row, "r.status"); });
 }
 
 std::optional<json> RunService::result(std::int64_t id) {

@@ -1,9 +1,14 @@
 // A real diagnosis through the service over loopback: a tiny specimen (about 40 particles,
-// coarse membrane, 1 % axial strain, no creep) and the smallest budget the request allows.
-// POST /datasets/{id}/diagnose, follow its stream to the end, GET the stored report, restart
-// on the same data directory and read the same report back. It costs several tiny DEM runs:
-// 57 s measured alone on the shared 2-core machine (one OMP thread), about 2.5 min when it
-// shares the CPU with another engine run.
+// coarse membrane, 1 % axial strain, no creep), the smallest budget the request allows and
+// the parameters' uncertainty from the regression over the runs made
+// (finite_difference_uncertainty false: no extra Jacobian runs). POST
+// /datasets/{id}/diagnose, follow its stream to the end, GET the stored report, restart on
+// the same data directory and read the same report back. It costs six tiny DEM runs, about
+// 7 s alone. The scheme is chosen so that every run's consolidation meets its criterion:
+// with radius ratio 1.5, or with the default contact modulus (230 MPa, which the calibration
+// varies up to x5), this specimen's consolidation ends at the protocol's 400,000-step cap
+// with the platen stress 5-11 % off sigma3, about 17 s per run (the test took 57 s alone,
+// 236 s under load, then 78 s with ratio 2 alone).
 #include "service_fixture.hpp"
 
 using namespace triax::test;
@@ -14,8 +19,8 @@ TEST_CASE("a real diagnosis runs through the service and its report survives a r
     const json scheme = json::parse(R"({
       "name": "tiny", "seed": 11, "max_particles": 40,
       "specimen": {"diameter_mm": 40, "height_mm": 80},
-      "gradation": {"kind": "radius_ratio", "r_min_mm": 2, "radius_ratio": 1.5},
-      "micro": {"membrane_particle_radius_mm": 4},
+      "gradation": {"kind": "radius_ratio", "r_min_mm": 2, "radius_ratio": 2},
+      "micro": {"membrane_particle_radius_mm": 4, "normal_modulus_MPa": 60, "shear_modulus_MPa": 40},
       "loading": {"confining_pressure_kPa": 100, "stress_levels": [], "stage_durations_min": [],
                   "max_axial_strain_pct": 1}})");
     long long id = 0;
@@ -29,7 +34,7 @@ TEST_CASE("a real diagnosis runs through the service and its report survives a r
                                  .body["id"];
         const auto sub = srv.post("/datasets/" + std::to_string(ds) + "/diagnose",
                                   json{{"scheme", scheme}, {"budget_runs", 4}, {"refine_runs", 1}, {"max_candidates", 1},
-                                       {"max_effects", 1}, {"seed", 1}});
+                                       {"max_effects", 1}, {"seed", 1}, {"finite_difference_uncertainty", false}});
         INFO(sub.text);
         REQUIRE(sub.status == 202);
         id = sub.body["id"];
@@ -49,6 +54,8 @@ TEST_CASE("a real diagnosis runs through the service and its report survives a r
         CHECK(!report["parameters"].empty());
         CHECK(!report["error_before"].empty());
         CHECK(report["verdict"].is_string());
+        CHECK(got.body["options"]["finite_difference_uncertainty"] == false);
+        CHECK(report["runs_used"].get<int>() >= 4);  // at least the calibration budget
         report_text = report.dump();
     }
     {

@@ -35,3 +35,37 @@ TEST_CASE("a queued diagnosis is stored, listed, cancelled and its stream ends",
     check_problem(srv.post("/diagnoses/" + std::to_string(id) + "/cancel", std::string()), 409);
     control.hold = false;
 }
+
+TEST_CASE("finite_difference_uncertainty is read from the diagnose body, type-checked and echoed", "[server][e2e][diagnosis]") {
+    ScriptControl control;
+    control.hold = true;  // a held run keeps the diagnoses queued: only the request is tested here
+    TestServer srv(scripted_executor(control), {}, 1, 8);
+    const long long run = srv.post("/runs", json{{"scheme", json::object()}}).body["id"];
+    srv.wait_status(run, "running");
+    const long long ds = srv.post("/datasets?format=csv", std::string("confining_kPa,axial_strain_pct,q_kPa\n100,0.5,80\n"),
+                                  "text/csv")
+                             .body["id"];
+    const std::string path = "/datasets/" + std::to_string(ds) + "/diagnose";
+    for (const json& bad : {json("false"), json(0), json(nullptr), json::array({true})}) {
+        INFO(bad.dump());
+        const auto r = srv.post(path, json{{"scheme_id", 1}, {"finite_difference_uncertainty", bad}});
+        check_problem(r, 422);
+        CHECK(r.body["field"] == "/finite_difference_uncertainty");
+        CHECK(r.body["detail"].get<std::string>().find("true or false") != std::string::npos);
+    }
+    CHECK(srv.get("/diagnoses").body["total"] == 0);  // nothing queued by a refused request
+
+    const auto off = srv.post(path, json{{"scheme_id", 1}, {"finite_difference_uncertainty", false}, {"budget_runs", 6}});
+    REQUIRE(off.status == 202);
+    const auto dflt = srv.post(path, json{{"scheme_id", 1}});
+    REQUIRE(dflt.status == 202);
+    const auto got_off = srv.get("/diagnoses/" + std::to_string(off.body["id"].get<long long>())).body["options"];
+    const auto got_dflt = srv.get("/diagnoses/" + std::to_string(dflt.body["id"].get<long long>())).body["options"];
+    CHECK(got_off["finite_difference_uncertainty"] == false);
+    CHECK(got_off["budget_runs"] == 6);
+    CHECK(got_dflt["finite_difference_uncertainty"] == true);  // the engine's default
+    CHECK(got_dflt["budget_runs"] == 24);
+    for (const auto& id : {off.body["id"], dflt.body["id"]})
+        REQUIRE(srv.post("/diagnoses/" + std::to_string(id.get<long long>()) + "/cancel", std::string()).status == 202);
+    control.hold = false;
+}

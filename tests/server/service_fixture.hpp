@@ -174,14 +174,17 @@ public:
         std::string type;
         json data;
     };
-    // Reads an SSE stream until the server closes it.
-    std::vector<Event> events(const std::string& path, const std::string& last_event_id = "") const {
+    // Reads an SSE stream until the server closes it. `received` (optional) counts the bytes
+    // read so far, so another thread can wait until the stream is open instead of sleeping.
+    std::vector<Event> events(const std::string& path, const std::string& last_event_id = "",
+                              std::atomic<std::size_t>* received = nullptr) const {
         auto c = client();
         std::string buffer;
         httplib::Headers headers;
         if (!last_event_id.empty()) headers.emplace("Last-Event-ID", last_event_id);
         auto res = c.Get(path.c_str(), headers, [&](const char* data, size_t n) {
             buffer.append(data, n);
+            if (received) *received += n;
             return true;
         });
         REQUIRE(res);

@@ -92,9 +92,13 @@ TEST_CASE("a client connected while the run is held receives the events as they 
     TestServer srv(scripted_executor(control));
     const long long id = srv.post("/runs", json{{"scheme", json::object()}}).body["id"];
     std::vector<TestServer::Event> got;
-    std::thread reader([&] { got = srv.events("/runs/" + std::to_string(id) + "/events"); });
+    std::atomic<std::size_t> received{0};
+    std::thread reader([&] { got = srv.events("/runs/" + std::to_string(id) + "/events", "", &received); });
     srv.wait_status(id, "running");
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the reader is now waiting on the live stream
+    // The reader has the stored history (queued, running) and now waits on the live stream.
+    const auto open_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (received == 0 && std::chrono::steady_clock::now() < open_by) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    REQUIRE(received > 0);
     control.hold = false;
     reader.join();
     REQUIRE_FALSE(got.empty());
