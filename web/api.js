@@ -116,6 +116,10 @@ export async function getList(path, key, count = PAGE) {
   return { items, total, more: before != null };
 }
 
+// Every item of a list, in pages of 500: a picker must offer the oldest run or dataset too,
+// not only the newest page.
+export async function getAll(path, key) { return (await getList(path, key, Infinity)).items; }
+
 // "more" under a paged table: shows how many of how many, and asks for one page more.
 export function moreButton(id, shown, total, onclick) {
   return shown < total

@@ -119,7 +119,10 @@ async function pollActivity() {
   clearTimeout(activityTimer);
   const seq = ++activitySeq;
   try {
-    const [{ runs }, { diagnoses }] = await Promise.all([getJSON('/runs'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
+    // Only the active jobs, filtered by the server: one page holds them all (at most the
+    // queue limit plus the workers), however long the history is.
+    const active = '?status=queued,running&limit=500';
+    const [{ runs }, { diagnoses }] = await Promise.all([getJSON(`/runs${active}`), getJSON(`/diagnoses${active}`).catch(() => ({ diagnoses: [] }))]);
     if (seq !== activitySeq) return;
     const isActive = x => x.status === 'running' || x.status === 'queued';
     const items = [

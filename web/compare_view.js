@@ -3,7 +3,7 @@
 // model and lab for one curve, and its residual. Downloads: the residual table as CSV,
 // each plot as PNG/CSV.
 
-import { el, getJSON, getList, moreButton, PAGE, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
+import { el, getAll, moreButton, PAGE, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
 import { Plot, downloadBlob } from './plot.js';
 
 const CONTENT_TYPES = { json: 'application/json', csv: 'text/csv', gds: 'text/csv', ags: 'text/plain' };
@@ -76,16 +76,18 @@ export class CompareView {
   async refreshLists() {
     const seq = this.listSeq = (this.listSeq || 0) + 1;
     try {
-      const [{ runs }, { items: datasets, total }] = await Promise.all([getJSON('/runs'), getList('/datasets', 'datasets', this.datasetCount)]);
+      // The pickers offer every run and dataset; the table shows `datasetCount` of them.
+      const [runs, datasets] = await Promise.all([getAll('/runs', 'runs'), getAll('/datasets', 'datasets')]);
       if (seq !== this.listSeq) return;
+      const total = datasets.length, shown = datasets.slice(0, this.datasetCount);
       const keepRun = this.runSelect.value, keepSet = this.datasetSelect.value;
       this.runSelect.replaceChildren(...runs.map(r => el('option', { value: r.id }, `#${r.id} ${r.name || ''} (${r.status})`)));
       const firstDone = runs.find(r => r.status === 'done');
       this.runSelect.value = keepRun && runs.some(r => String(r.id) === keepRun) ? keepRun : firstDone ? String(firstDone.id) : '';
       this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
       if (keepSet && datasets.some(d => String(d.id) === keepSet)) this.datasetSelect.value = keepSet;
-      this.renderDatasets(datasets);
-      this.datasetMore.replaceChildren(moreButton('datasets-more', datasets.length, total, () => { this.datasetCount += PAGE; this.refreshLists(); }));
+      this.renderDatasets(shown);
+      this.datasetMore.replaceChildren(moreButton('datasets-more', shown.length, total, () => { this.datasetCount += PAGE; this.refreshLists(); }));
     } catch (e) { this.compareError.textContent = e.message; }
   }
 

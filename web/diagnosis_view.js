@@ -5,7 +5,7 @@
 // error), with polling of GET /diagnoses/{id} as the fallback that also fetches the
 // final report.
 
-import { el, getJSON, postJSON, progressElement } from './api.js';
+import { el, getAll, getJSON, postJSON, progressElement } from './api.js';
 
 // Five significant digits; very large or small magnitudes (e.g. moduli in Pa) as 1.2e+8.
 const sig = v => (v !== 0 && (Math.abs(v) >= 1e6 || Math.abs(v) < 1e-4) ? v.toExponential(4).replace(/\.?0+e/, 'e') : Number(v.toPrecision(5)));
@@ -71,7 +71,7 @@ export class DiagnosisView {
   async refreshLists() {
     const seq = this.listSeq = (this.listSeq || 0) + 1; // only the newest answer counts
     try {
-      const [{ runs }, { datasets }, diag] = await Promise.all([getJSON('/runs'), getJSON('/datasets'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
+      const [runs, datasets, diag] = await Promise.all([getAll('/runs', 'runs'), getAll('/datasets', 'datasets'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
       if (seq !== this.listSeq) return;
       this.runSelect.replaceChildren(...runs.filter(r => r.scheme_id != null)
         .map(r => el('option', { value: r.scheme_id }, `#${r.id} ${r.name || ''} (scheme ${r.scheme_id})`)));
