@@ -118,6 +118,23 @@ try {
   for (const [pointer, value] of changed) await page.fill(`#scheme-form input[data-pointer="${pointer}"]`, value);
   check(changed.some(([p]) => /particles$/.test(p)), 'the particle cap can be set through the form');
   log('tiny scheme:', changed.map(([p, v]) => `${p}=${v}`).join(' '));
+  // The same scheme posted directly, with one creep stage of the given length.
+  const tinyScheme = async stageMinutes => {
+    const s = (await (await fetch(`${base}/presets`)).json()).presets[0].scheme;
+    for (const [pointer, v] of changed) {
+      const keys = pointer.split('/').slice(1), last = keys.pop();
+      const parent = keys.reduce((o, k) => o[k], s);
+      parent[last] = Array.isArray(parent[last]) ? v.split(',').map(Number) : typeof parent[last] === 'number' ? Number(v) : v;
+    }
+    s.loading.stage_durations_min = [stageMinutes];
+    return s;
+  };
+  const post = (url, body) => fetch(`${base}${url}`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
+  // A run with a day-long creep stage holds the one worker, so the form's run waits queued
+  // until its page is connected to the event stream and is then released: the page sees
+  // the whole run live however slowly it loads on a busy machine (the tiny run's shear
+  // lasts about a second).
+  const blocker = (await (await post('/runs', { scheme: await tinyScheme(1440) })).json()).id;
   await page.click('#submit-run');
   await page.waitForURL(/#\/runs\/\d+$/, { timeout: 15000 }).catch(async () => {
     log('submit did not start a run:', await page.textContent('#form-error'));
@@ -126,6 +143,9 @@ try {
   });
   const runId = Number(page.url().match(/#\/runs\/(\d+)$/)[1]);
   log('run', runId, 'submitted');
+  await page.waitForFunction(() => document.querySelector('#run-status')?.textContent === 'queued' &&
+    Number(document.querySelector('.events-info')?.dataset.count || 0) > 0, null, { timeout: 15000 });
+  await post(`/runs/${blocker}/cancel`, {});
 
   // First point (or an early end: a failed run must not cost the whole timeout).
   await page.waitForFunction(() => Number(document.querySelector('#plot-q canvas')?.dataset.points || 0) > 0 ||
@@ -310,12 +330,8 @@ try {
   // More runs than one page too: one that stays active (a tiny scheme with a day-long creep
   // stage, cancelled below) and 51 newer ones queued behind it and cancelled, so the
   // active run and the browser test's finished run are both beyond the newest 50.
-  const post = (url, body) => fetch(`${base}${url}`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
   const scheme = (await (await fetch(`${base}/runs/${runId}`)).json()).scheme_id;
-  const longScheme = (await (await fetch(`${base}/schemes/${scheme}`)).json()).scheme;
-  longScheme.name = 'stays-active';
-  longScheme.loading.stage_durations_min = [1440];
-  const longRun = (await (await post('/runs', { scheme: longScheme })).json()).id;
+  const longRun = (await (await post('/runs', { scheme: await tinyScheme(1440) })).json()).id;
   for (let i = 0; i < 51; i++) {
     const r = await post('/runs', { scheme_id: scheme });
     if (r.status !== 202) throw new Error(`run submission ${i} answered ${r.status}`);
