@@ -22,7 +22,7 @@ TEST_CASE("invalid_utf8_at finds the first byte that is not well-formed UTF-8", 
     CHECK(invalid_utf8_at("\x80") == 0);                   // stray continuation byte
 }
 
-TEST_CASE("an upload that is not UTF-8 is refused with its position; the service keeps serving", "[server][errors]") {
+TEST_CASE("an upload that is not UTF-8 is refused with its position - the service keeps serving", "[server][errors]") {
     ScriptControl control;
     TestServer srv(scripted_executor(control));
     const std::string ok = "confining_kPa,axial_strain_pct,q_kPa\n100,0.5,80\n100,1,120\n";

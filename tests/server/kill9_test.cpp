@@ -159,7 +159,7 @@ struct TempDir {
 
 }  // namespace
 
-TEST_CASE("triaxd killed with SIGKILL mid-run loses nothing stored; the run is interrupted and re-runs",
+TEST_CASE("triaxd killed with SIGKILL mid-run loses nothing stored - the run is interrupted and re-runs",
           "[server][e2e][engine][kill9]") {
     TempDir dir;
     const auto data = dir.path / "data";

@@ -149,7 +149,7 @@ TEST_CASE("AGS4 TRET/TREG summary rows with units", "[server][lab]") {
     }
 }
 
-TEST_CASE("JSON upload round-trips through the stored form; errors name the pointer", "[server][lab]") {
+TEST_CASE("JSON upload round-trips through the stored form - errors name the pointer", "[server][lab]") {
     const auto doc = nlohmann::json::parse(R"({"name":"lab","curves":[
         {"kind":"creep","stage":2,"confining_kPa":100,"columns":["time_min","axial_deformation_mm"],"rows":[[0,0.1],[30,0.2]]},
         {"kind":"shear","confining_kPa":100,"columns":["axial_strain_pct","q_kPa"],"rows":[[0,0],[1,100]]}]})");

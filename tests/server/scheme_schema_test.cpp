@@ -11,7 +11,7 @@
 
 using nlohmann::json;
 
-TEST_CASE("presets pass schema/scheme.schema.json; a broken field is named", "[server][schema]") {
+TEST_CASE("presets pass schema/scheme.schema.json - a broken field is named", "[server][schema]") {
     const auto path = std::filesystem::path(TRIAX_SOURCE_DIR) / "schema" / "scheme.schema.json";
     if (!std::filesystem::exists(path)) {
         WARN("schema/scheme.schema.json is not in the tree yet; the service skips the JSON Schema check");

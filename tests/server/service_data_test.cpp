@@ -79,7 +79,7 @@ TEST_CASE("upload a dataset, compare with a run: metrics match the known offset"
     check_problem(srv.get("/comparisons/" + std::to_string(cid)), 404);  // cascaded
 }
 
-TEST_CASE("restart: everything stored is found again; unfinished runs become interrupted", "[server][e2e]") {
+TEST_CASE("restart: everything stored is found again - unfinished runs become interrupted", "[server][e2e]") {
     const auto dir = make_temp_dir("restart");
     ScriptControl control;
     long long done_run = 0, held_run = 0, ds = 0, cmp = 0;

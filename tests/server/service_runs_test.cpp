@@ -67,7 +67,7 @@ TEST_CASE("submit a run, follow its stream to the end, query its results", "[ser
     CHECK(list[0]["id"] == id);
 }
 
-TEST_CASE("Last-Event-ID replays only what was missed; late clients get the whole history", "[server][e2e]") {
+TEST_CASE("Last-Event-ID replays only what was missed - late clients get the whole history", "[server][e2e]") {
     ScriptControl control;
     control.shear_points = 20;
     TestServer srv(scripted_executor(control));
@@ -105,7 +105,7 @@ TEST_CASE("a client connected while the run is held receives the events as they 
     CHECK(got.back().type == "done");
 }
 
-TEST_CASE("queue limit answers 429; cancel queued and running runs; re-run", "[server][e2e]") {
+TEST_CASE("queue limit answers 429 - cancel queued and running runs - re-run", "[server][e2e]") {
     ScriptControl control;
     control.hold = true;
     TestServer srv(scripted_executor(control), {}, 1, 1);

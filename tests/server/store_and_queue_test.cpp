@@ -24,7 +24,7 @@ std::filesystem::path temp_dir(const std::string& tag) {
 const std::filesystem::path kMigrations = std::filesystem::path(TRIAX_SOURCE_DIR) / "schema" / "migrations";
 }  // namespace
 
-TEST_CASE("migrations apply once; WAL and foreign keys are on", "[server][store]") {
+TEST_CASE("migrations apply once - WAL and foreign keys are on", "[server][store]") {
     const auto dir = temp_dir("store");
     {
         Database db(dir / "t.db", kMigrations);
