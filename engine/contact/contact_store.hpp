@@ -10,7 +10,10 @@
 //
 // The creep mechanism may read and write between cycles: creep_normal_offset (m, the
 // linear law uses overlap - creep_normal_offset), damage (in [0, 1], bond strengths are
-// scaled by 1 - damage), shear_force (e.g. viscous relaxation of the shear spring).
+// scaled by 1 - damage), asperity_wear (in [0, 1), the Coulomb limit of an unbonded
+// contact is mu (1 - wear) Fn), creep_slip (m, the contact's accumulated delayed slip),
+// shear_force (viscous relaxation of the shear spring). All reset when a contact opens:
+// a new contact has fresh asperities.
 #include "engine/core/types.hpp"
 
 #include <cstdint>
@@ -33,6 +36,8 @@ struct ContactStore {
     std::vector<double> reference_gap;       // m, gap at bond installation (bonded pairs start unloaded)
     std::vector<double> creep_normal_offset; // m
     std::vector<double> damage;              // [0, 1]
+    std::vector<double> asperity_wear;       // [0, 1), friction loss of the contact
+    std::vector<double> creep_slip;          // m, accumulated delayed (creep) slip
     // Per-step results (slots gathered per particle in a fixed order).
     std::vector<Vec3> force_on_j;            // N, total contact force on j (on i: minus this)
     std::vector<Vec3> torque_on_i, torque_on_j;  // N m
@@ -48,6 +53,7 @@ struct ContactStore {
         normal_force.resize(n); shear_force.resize(n); rolling_moment.resize(n);
         bonded.resize(n); bond_normal_strength.resize(n); bond_shear_strength.resize(n);
         reference_gap.resize(n); creep_normal_offset.resize(n); damage.resize(n);
+        asperity_wear.resize(n); creep_slip.resize(n);
         force_on_j.resize(n); torque_on_i.resize(n); torque_on_j.resize(n);
         contact_point.resize(n); overlap.resize(n);
     }
@@ -63,6 +69,8 @@ struct ContactStore {
         reference_gap[k] = 0.0;
         creep_normal_offset[k] = 0.0;
         damage[k] = 0.0;
+        asperity_wear[k] = 0.0;
+        creep_slip[k] = 0.0;
         active[k] = 0;
     }
 
@@ -78,6 +86,8 @@ struct ContactStore {
         reference_gap[to] = other.reference_gap[from];
         creep_normal_offset[to] = other.creep_normal_offset[from];
         damage[to] = other.damage[from];
+        asperity_wear[to] = other.asperity_wear[from];
+        creep_slip[to] = other.creep_slip[from];
     }
 };
 

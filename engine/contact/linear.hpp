@@ -4,7 +4,8 @@
 // kinematics and owns the history slots; the law only turns them into forces.
 //
 //   Fn = kn * overlap + Fd,   Fd = -2 beta sqrt(m_eff kn) v_n        (compression > 0)
-//   Fs <- rotate(Fs) - ks * v_s dt,  |Fs| <= mu Fn  (Coulomb slider, unbonded only)
+//   Fs <- rotate(Fs) - ks * v_s dt,  |Fs| <= mu (1 - wear) Fn  (Coulomb slider, unbonded
+//     only; wear = asperity wear of the creep mechanism, 0 for a fresh contact)
 //   contact bond (if intact): tension allowed; breaks when -Fn_el >= sn (1 - damage)
 //     (tension) or |Fs| >= ss (1 - damage) (shear); then frictional.
 //   rolling resistance (kRolling): M <- rotate(M) - kr dtheta_b,  kr = f ks Rbar^2,
@@ -48,6 +49,7 @@ struct LinearContact {
         double bond_normal_strength;
         double bond_shear_strength;
         double damage;
+        double asperity_wear;        // [0, 1): friction loss of a worn contact
     };
 
     // What happened this step (energies in J).
@@ -124,7 +126,7 @@ struct LinearContact {
             }
         }
         if (!bonded) {
-            const double limit = p.friction * fn_el;
+            const double limit = p.friction * (1.0 - h.asperity_wear) * fn_el;
             const double mag = fs.norm();
             if (mag > limit) {
                 const Vec3 fs_new = mag > 0 ? Vec3(fs * (limit / mag)) : Vec3::Zero();

@@ -87,7 +87,8 @@ void ball_contacts(ContactStore& c, const ParticleArrays& pa, const std::vector<
             kin.r_bar = ri * rj / (ri + rj);
             kin.dt = dt;
             LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k],
-                                     c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k]};
+                                     c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
+                                     c.asperity_wear[k]};
             const LinearContact::Outcome o = LinearContact::evaluate<kRolling>(params[c.law[k]], kin, h);
             sums.add(o);
             c.overlap[k] = kin.overlap;
@@ -174,7 +175,7 @@ void World::compute_contact_forces() {
         kin.r_bar = r;
         kin.dt = dt_;
         Vec3 no_moment = Vec3::Zero();
-        LinearContact::History h{wc.normal_force[k], wc.shear_force[k], no_moment, nullptr, 0.0, 0.0, 0.0};
+        LinearContact::History h{wc.normal_force[k], wc.shear_force[k], no_moment, nullptr, 0.0, 0.0, 0.0, 0.0};
         const LinearContact::Outcome o = any_rolling_
             ? LinearContact::evaluate<true>(params[wc.law[k]], kin, h)
             : LinearContact::evaluate<false>(params[wc.law[k]], kin, h);

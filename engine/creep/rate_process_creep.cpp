@@ -5,66 +5,110 @@
 
 namespace triax::creep {
 
-double RateProcessCreep::accumulated_slip(int i, int j) const {
-    auto it = state_.find(key(std::min(i, j), std::max(i, j)));
-    return it == state_.end() ? 0.0 : it->second.slip;
+RateProcessCreep::RateProcessCreep(const RateProcessParams& p) : p_(p) {
+    if (!(p.slip_rate_a_m_s >= 0.0)) throw InputError("creep.slip_rate_a_m_s: must be >= 0");
+    if (!(p.slip_capacity_m > 0.0)) throw InputError("creep.slip_capacity_m: must be > 0");
+    if (!(p.capacity_offset > 0.0)) throw InputError("creep.capacity_offset: must be > 0");
+    if (!(p.wear_length_m >= 0.0)) throw InputError("creep.wear_length_m: must be >= 0");
+    if (!(p.wear_max >= 0.0 && p.wear_max < 1.0)) throw InputError("creep.wear_max: must be in [0, 1)");
+    if (!(p.aging_margin >= 0.0 && p.aging_margin <= 1.0)) throw InputError("creep.aging_margin: must be in [0, 1]");
 }
 
-CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) {
+namespace {
+// Mobilised friction of a compressive frictional contact, or -1 when it has none.
+double mobilisation(const ContactStore& c, const ContactLaw& law, std::size_t k) {
+    const double fn = c.normal_force[k];
+    const double fs = c.shear_force[k].norm();
+    const double mu = law.friction * (1.0 - c.asperity_wear[k]);
+    if (!(fn > 0.0) || !(mu > 0.0) || !(law.ks > 0.0)) return -1.0;
+    return std::min(1.0, fs / (mu * fn));
+}
+}  // namespace
+
+void RateProcessCreep::age(World& world) const {
+    auto& c = world.contacts();
+    const auto& grp = world.particles().group;
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        if (!c.active[k] || grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
+        const double f = mobilisation(c, world.contact_law_of(k), k);
+        if (f > 0.0) c.creep_slip[k] = std::max(c.creep_slip[k], equilibrium_slip(std::min(1.0, f + p_.aging_margin)));
+    }
+}
+
+CreepUpdateSummary RateProcessCreep::trial(const World& world, double dt) const {
+    return const_cast<RateProcessCreep*>(this)->update<false>(const_cast<World&>(world), dt);
+}
+
+CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) const {
+    auto out = update<true>(world, dt);
+    world.energy().creep += out.dissipated_j;
+    return out;
+}
+
+template <bool kApply>
+CreepUpdateSummary RateProcessCreep::update(World& world, double dt) const {
     if (!(dt >= 0.0)) throw InputError("creep advance: dt must be >= 0 s");
     CreepUpdateSummary out;
     auto& c = world.contacts();
     const auto& grp = world.particles().group;
     long bonded = 0, frictional = 0;
-    double asperity_sum = 0.0;
-    double damage_sum = 0.0;
+    double wear_sum = 0.0, damage_sum = 0.0, relaxed = 0.0, carried = 0.0;
     // Serial loop in slot order: deterministic, and cheap next to the relaxation cycles.
-    for (std::size_t k = 0; k < c.i.size(); ++k) {
+    for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
         if (grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
         const ContactLaw& law = world.contact_law_of(k);
         const double fs = c.shear_force[k].norm();
-        const double fn = c.normal_force[k];
-        // 1. viscous slip (frictional, compressive contacts only)
-        if (p_.slip_rate_a_m_s > 0.0 && fn > 0.0 && fs > 0.0 && law.friction > 0.0 && law.ks > 0.0) {
-            const double f = std::min(1.0, fs / (law.friction * fn));
-            State& st = state_[key(c.i[k], c.j[k])];
-            double& s = st.slip;
-            if (f > p_.damage_threshold && p_.damage_rate_b1_per_s > 0.0)
-                st.damage = std::min(0.95, st.damage + p_.damage_rate_b1_per_s * std::exp(p_.damage_b2 * f) * dt);
-            asperity_sum += st.damage;
+        const double f = mobilisation(c, law, k);
+        if (f > 0.0) {
             ++frictional;
-            const double weak = 1.0 - st.damage;
-            // Delayed-slip capacity of the contact (a Kelvin element in rate-process form):
-            // grows with mobilisation and without bound as f -> 1, and with damage.
-            const double s_lim = p_.slip_hardening_length_m * f / ((1.0 - f + 0.05) * weak);
-            const double v = p_.slip_rate_a_m_s * std::sinh(p_.slip_beta * f) * std::max(0.0, 1.0 - s / s_lim) / weak;
-            const double delta = std::min(v * dt, fs / law.ks);
-            const double fs_new = fs - law.ks * delta;
-            out.dissipated_j += 0.5 * (fs * fs - fs_new * fs_new) / law.ks;
-            c.shear_force[k] *= fs_new / fs;
-            s += delta;
+            carried += fs;
+            const double s = c.creep_slip[k];
+            const double s_eq = equilibrium_slip(f);
+            double delta = 0.0;
+            if (s < s_eq && p_.slip_rate_a_m_s > 0.0) {
+                const double rate0 = p_.slip_rate_a_m_s * std::sinh(p_.slip_beta * f);
+                delta = (s_eq - s) * -std::expm1(-rate0 * dt / s_eq);
+                delta = std::min(delta, fs / law.ks);
+            }
+            relaxed += law.ks * delta;
+            // Asperity wear: the creep slip grinds the asperities (slip weakening).
+            double wear = c.asperity_wear[k];
+            if (p_.wear_length_m > 0.0 && delta > 0.0)
+                wear = p_.wear_max - (p_.wear_max - wear) * std::exp(-delta / p_.wear_length_m);
+            wear_sum += wear;
+            if (kApply) {
+                const double fs_new = fs - law.ks * delta;
+                out.dissipated_j += 0.5 * (fs * fs - fs_new * fs_new) / law.ks;
+                if (fs > 0.0) c.shear_force[k] *= fs_new / fs;
+                c.creep_slip[k] = s + delta;
+                c.asperity_wear[k] = wear;
+            }
             out.max_slip_m = std::max(out.max_slip_m, delta);
         }
-        // 2. stress corrosion of bonds
         if (c.bonded[k]) {
             ++bonded;
-            if (p_.damage_rate_b1_per_s > 0.0) {
+            double dmg = c.damage[k];
+            if (p_.bond_corrosion_b1_per_s > 0.0) {
+                const double fn = c.normal_force[k];
                 const double tn = c.bond_normal_strength[k], ss = c.bond_shear_strength[k];
                 const double rho = std::max(tn > 0.0 ? std::max(0.0, -fn) / tn : 0.0, ss > 0.0 ? fs / ss : 0.0);
-                if (rho > p_.damage_threshold) {
-                    const double dd = p_.damage_rate_b1_per_s * std::exp(p_.damage_b2 * rho) * dt;
-                    c.damage[k] = std::min(1.0, c.damage[k] + dd);
+                if (rho > p_.bond_corrosion_threshold) {
+                    dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
                     ++out.bonds_damaged;
+                    if (kApply) c.damage[k] = dmg;
                 }
             }
-            damage_sum += c.damage[k];
+            damage_sum += dmg;
         }
     }
+    out.relaxation = carried > 0.0 ? relaxed / carried : 0.0;
     out.mean_damage = bonded ? damage_sum / bonded : 0.0;
-    out.mean_asperity_damage = frictional ? asperity_sum / frictional : 0.0;
-    world.energy().creep += out.dissipated_j;
+    out.mean_asperity_wear = frictional ? wear_sum / frictional : 0.0;
     return out;
 }
+
+template CreepUpdateSummary RateProcessCreep::update<true>(World&, double) const;
+template CreepUpdateSummary RateProcessCreep::update<false>(World&, double) const;
 
 }  // namespace triax::creep

@@ -1,74 +1,84 @@
 #pragma once
 // Time-dependent contact mechanism (docs/creep.md), applied between mechanical
-// relaxations over a physical-time increment dt:
+// relaxations over a physical-time increment dt. Per soil-soil contact with compressive
+// normal force Fn, shear force Fs and friction mu (1 - D):
 //
-// 1. Rate-process viscous slip at frictional soil-soil contacts (Kuhn & Mitchell 1993):
-//      v = A * sinh(beta * f) * max(0, 1 - s / s_lim) / (1 - D_c),   f = |Fs| / (mu Fn) in [0, 1]
-//      s_lim = s_h * f / ((1 - f + 0.05) (1 - D_c))
-//    with s the contact's accumulated creep slip and s_lim its delayed-slip capacity (a
-//    Kelvin element in rate-process form: interlocking stops the slip, so creep decelerates
-//    and converges; a higher load raises f and opens new capacity, near sliding the
-//    capacity is large) and D_c the asperity damage of the contact, grown by
-//    stress corrosion where the contact is close to sliding:
-//      dD_c/dt = b1 * exp(b2 * f)   when f > f_th      (D_c capped at 0.95)
-//    so that near failure (S ~ 0.8) damage outruns hardening late in the stage and the
-//    rate rises again (tertiary creep); at low mobilisation D_c stays ~0.
-//    The slip over dt, delta = v dt (capped at the elastic shear displacement |Fs|/ks),
-//    relaxes the shear spring: Fs <- Fs (1 - ks delta / |Fs|). The energy ks-spring
-//    energy released is booked as creep dissipation.
-// 2. Stress corrosion of contact bonds (Potyondy 2007), same b1, b2, threshold:
-//      dD/dt = b1 * exp(b2 * rho)   when rho > rho_th,   rho = max(tension/Tn, |Fs|/Ss)
-//    D scales the bond strengths by (1 - D); a bond breaks (engine) once its load
-//    exceeds the reduced strength, which lets damage run away at high stress (tertiary).
+// 1. Delayed slip (a Kelvin element in rate-process form, Kuhn & Mitchell 1993):
+//      ds/dt = A sinh(beta f) (1 - s / s_eq(f)),   f = |Fs| / (mu (1 - D) Fn) in [0, 1]
+//      s_eq(f) = s_h f / (1 - f + eps)
+//    s is the contact's accumulated creep slip. The contact creeps towards the slip its
+//    mobilisation can sustain and stops there: creep decelerates and converges; a higher
+//    stage load raises f and opens new capacity; near sliding (f -> 1) the capacity is
+//    large. The update is the exact solution at fixed f over dt (unconditionally stable):
+//      s <- s_eq - (s_eq - s) exp(-A sinh(beta f) dt / s_eq)
+//    and the slip relaxes the shear spring, Fs <- Fs (1 - ks delta / |Fs|).
+// 2. Asperity wear (slip weakening): the creep slip grinds the contact's asperities,
+//      D <- D_max - (D_max - D) exp(-delta / s_w),
+//    and the Coulomb limit drops to mu (1 - D) Fn (engine: ContactStore::asperity_wear).
+//    Wear raises f, which opens capacity and speeds the slip: a feedback whose gain grows
+//    with the share of contacts near sliding.
+// 3. Stress corrosion of contact bonds (Potyondy 2007):
+//      dDb/dt = b1 exp(b2 rho)  when rho > rho_th,   rho = max(tension / Tn, |Fs| / Ss)
+//    the engine scales bond strengths by (1 - Db).
 //
-// The DEM cycles after each update (relaxation at fixed boundary stress) carry no
-// physical time: the physical clock is advanced only by dt (quasi-static mapping).
+// A consolidated specimen is aged (age()): every contact already carries the delayed slip
+// its consolidation load sustains, as after the lab's consolidation hold, so a stage's
+// creep comes from the mobilisation it adds. The DEM cycles after each update carry no
+// physical time: the clock advances by dt only (quasi-static mapping).
 #include <cstdint>
-#include <unordered_map>
 
 #include "engine/core/world.hpp"
 
 namespace triax::creep {
 
 struct RateProcessParams {
-    double slip_rate_a_m_s = 0.0;
-    double slip_beta = 6.0;
-    double slip_hardening_length_m = 5.0e-6;
-    double damage_rate_b1_per_s = 0.0;
-    double damage_b2 = 12.0;
-    double damage_threshold = 0.55;
+    double slip_rate_a_m_s = 0.0;         // A
+    double slip_beta = 6.0;               // beta
+    double slip_capacity_m = 10.0e-6;     // s_h
+    double capacity_offset = 0.05;        // eps: capacity at sliding = s_h / eps
+    double aging_margin = 0.0;            // rise of mobilisation an aged contact bears without creep
+    double wear_length_m = 0.0;           // s_w, 0 = no wear
+    double wear_max = 0.0;                // D_max
+    double bond_corrosion_b1_per_s = 0.0; // b1
+    double bond_corrosion_b2 = 10.0;      // b2
+    double bond_corrosion_threshold = 0.9;
     int soil_group = 0;
 };
 
 struct CreepUpdateSummary {
-    double dissipated_j = 0.0;     // spring energy relaxed by viscous slip
-    double max_slip_m = 0.0;       // largest slip of the increment
-    double mean_damage = 0.0;      // over bonded contacts
-    double mean_asperity_damage = 0.0;  // over sliding-prone frictional contacts
-    long bonds_damaged = 0;        // contacts whose damage grew
+    double dissipated_j = 0.0;         // spring energy relaxed by delayed slip
+    double max_slip_m = 0.0;           // largest slip of the increment
+    double relaxation = 0.0;           // sum ks delta / sum |Fs|: share of shear force relaxed
+    double mean_damage = 0.0;          // over bonded contacts
+    double mean_asperity_wear = 0.0;   // over frictional soil contacts
+    long bonds_damaged = 0;            // bonds whose corrosion grew
 };
 
 class RateProcessCreep {
 public:
-    explicit RateProcessCreep(const RateProcessParams& p) : p_(p) {}
+    explicit RateProcessCreep(const RateProcessParams& p);
 
-    // Updates shear forces and bond damage of `world`'s contacts over dt (s). Books the
+    // Ages every soil contact at its present load: its creep slip becomes the equilibrium
+    // slip of its present mobilisation plus the aging margin (contact aging, Dieterich
+    // 1972: a contact held at rest gains static strength), so it creeps again only when
+    // a later load raises its mobilisation beyond that.
+    void age(World& world) const;
+
+    // What advance() would do over dt, without changing the world.
+    CreepUpdateSummary trial(const World& world, double dt_s) const;
+
+    // Updates slip, wear, shear forces and bond corrosion over dt (s); books the
     // dissipation in world.energy().creep.
-    CreepUpdateSummary advance(World& world, double dt_s);
+    CreepUpdateSummary advance(World& world, double dt_s) const;
 
-    // Accumulated creep slip of pair (i, j), 0 if none.
-    double accumulated_slip(int i, int j) const;
+    double equilibrium_slip(double mobilisation) const {
+        return p_.slip_capacity_m * mobilisation / (1.0 - mobilisation + p_.capacity_offset);
+    }
 
 private:
-    static std::uint64_t key(int i, int j) {
-        return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
-    }
+    template <bool kApply>
+    CreepUpdateSummary update(World& world, double dt_s) const;
     RateProcessParams p_;
-    struct State {
-        double slip = 0.0;    // m, accumulated creep slip
-        double damage = 0.0;  // asperity damage D_c
-    };
-    std::unordered_map<std::uint64_t, State> state_;
 };
 
 }  // namespace triax::creep

@@ -94,6 +94,7 @@ struct TestResult {
     bool cancelled = false;
     double wall_time_s = 0.0;
     long total_steps = 0;
+    long creep_relaxations = 0;          // mechanical relaxations of the creep stages (sub-increments)
 };
 
 }  // namespace triax::protocol

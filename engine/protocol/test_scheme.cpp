@@ -37,7 +37,14 @@ void TestScheme::validate() const {
     require(micro.membrane_stiffness_n_m > 0.0, "micro.membrane_stiffness_n_m", "must be > 0");
     require(creep.slip_rate_a_m_s >= 0.0, "creep.slip_rate_a_m_s", "must be >= 0");
     require(creep.slip_beta > 0.0, "creep.slip_beta", "must be > 0");
+    require(creep.slip_hardening_length_m > 0.0, "creep.slip_hardening_length_m", "must be > 0");
+    require(creep.capacity_offset > 0.0 && creep.capacity_offset <= 1.0, "creep.capacity_offset", "must be in (0, 1]");
+    require(creep.aging_margin >= 0.0 && creep.aging_margin <= 1.0, "creep.aging_margin", "must be in [0, 1]");
+    require(creep.wear_length_m >= 0.0, "creep.wear_length_m", "must be >= 0");
+    require(creep.wear_max >= 0.0 && creep.wear_max < 1.0, "creep.wear_max", "must be in [0, 1)");
     require(creep.damage_rate_b1_per_s >= 0.0, "creep.damage_rate_b1_per_s", "must be >= 0");
+    require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,
+            "creep.max_relaxation_per_increment", "must be in (0, 1]");
     require(creep.first_increment_s > 0.0, "creep.first_increment_s", "must be > 0");
     require(creep.increment_growth >= 1.0, "creep.increment_growth", "must be >= 1");
     require(creep.max_increment_s >= creep.first_increment_s, "creep.max_increment_s", "must be >= first_increment_s");

@@ -57,24 +57,35 @@ struct MicroParameters {
     double rolling_friction = 0.0;               // mu_r, 0 = off
 };
 
-// Time-dependent contact mechanism (docs/creep.md): rate-process viscous slip at the
-// frictional contacts plus stress-corrosion damage of the contact bonds.
+// Time-dependent contact mechanism (docs/creep.md): rate-process delayed slip at the
+// frictional contacts with asperity wear (slip weakening), plus stress corrosion of the
+// contact bonds.
 struct CreepLawParameters {
     // Rate process: slip rate v = v0 * exp(-dE/kT) * sinh(f / f_ref) applied to the
     // mobilised friction ratio f = |Fs| / (mu Fn). Lumped here as v = A sinh(beta f).
-    double slip_rate_a_m_s = 3.0e-9;       // A: slip rate scale (m/s) at f ~ 1/beta
-    double slip_beta = 6.0;                // beta: sensitivity to mobilisation
-    // Delayed-slip capacity scale s_h: capacity s_lim = s_h f / (1 - f + 0.05) (docs/creep.md).
-    double slip_hardening_length_m = 10.0e-6;
-    // Stress corrosion (asperities and bonds): dD/dt = b1 exp(b2 x) when x > threshold, with
-    // x the friction mobilisation |Fs|/(mu Fn) (asperities) or load/strength (bonds).
-    double damage_rate_b1_per_s = 1.0e-9; 
+    double slip_rate_a_m_s = 5.0e-21;      // A (m/s): rate at sliding ~ A e^beta / 2 = 2.7e-8 m/s
+    double slip_beta = 30.0;               // beta = mu / a of rate-and-state friction (docs/creep.md)
+    // Delayed-slip capacity s_eq = s_h f / (1 - f + eps) (docs/creep.md).
+    double slip_hardening_length_m = 2.0e-6;   // s_h
+    double capacity_offset = 0.5;              // eps: capacity at sliding is s_h / eps
+    // Contact aging: a contact held for a stage (or the consolidation) bears this rise of
+    // its mobilisation before it creeps again (static friction grows with hold time).
+    double aging_margin = 0.2;
+    // Asperity wear by creep slip: D = D_max (1 - exp(-slip / s_w)), friction mu (1 - D).
+    double wear_length_m = 20.0e-6;        // s_w
+    double wear_max = 0.5;                 // D_max
+    // Stress corrosion of contact bonds: dD/dt = b1 exp(b2 rho) when rho > threshold,
+    // rho = bond load / bond strength.
+    double damage_rate_b1_per_s = 1.0e-9;
     double damage_b2 = 10.0;
     double damage_threshold = 0.9;
     // Physical-time scheduler.
     double first_increment_s = 1.0;        // first time increment of a creep stage
     double increment_growth = 1.25;        // geometric growth of increments
     double max_increment_s = 3600.0;
+    // An increment is split while it would relax more than this share of the specimen's
+    // contact shear force at once (the mechanical relaxation must track the creep).
+    double max_relaxation_per_increment = 0.02;
 };
 
 // Which definition of the stress level drives the creep loads.

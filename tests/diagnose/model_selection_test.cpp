@@ -8,7 +8,7 @@
 
 using namespace triax::diagnose;
 
-TEST_CASE("white noise keeps nearly every reading; a smooth misfit keeps few", "[diagnose][bic]") {
+TEST_CASE("white noise keeps nearly every reading, a smooth misfit keeps few", "[diagnose][bic]") {
     std::mt19937_64 rng(3);
     std::normal_distribution<double> nd;
     std::vector<double> white(2000), smooth(2000);

@@ -62,7 +62,7 @@ TEST_CASE("creep curves are split into instant, primary, steady and tertiary", "
     CHECK(layout[1].phase.back() == "tertiary");
 }
 
-TEST_CASE("model = lab gives a zero residual; a missing curve gives the full-range penalty", "[diagnose][residuals]") {
+TEST_CASE("model = lab gives a zero residual, a missing curve gives the full-range penalty", "[diagnose][residuals]") {
     LabDataset lab{"t", {shear_curve(100e3), creep_curve(false)}, {}};
     const auto layout = residual_layout(lab);
     auto r = normalised_residual(layout, lab);

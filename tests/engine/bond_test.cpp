@@ -62,7 +62,7 @@ TEST_CASE("damage scales the bond strength", "[engine][bond]") {
     CHECK(run.tension == 1);
 }
 
-TEST_CASE("a bonded pair starts unloaded and carries tension; unbonded it does not", "[engine][bond]") {
+TEST_CASE("a bonded pair starts unloaded and carries tension, unbonded it does not", "[engine][bond]") {
     World w;
     const double r = 0.005;
     w.set_default_contact_law(test::linear_law(1e6, 5e5, 0.5));

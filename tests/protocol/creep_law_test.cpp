@@ -1,7 +1,12 @@
-// The time-dependent contact mechanism on a single contact held in place: viscous slip
-// relaxes the shear spring and converges below sliding; asperity damage grows only
-// above its threshold; dissipation is booked as creep energy.
+// The time-dependent contact mechanism on a single contact held in place: delayed slip
+// relaxes the shear spring and converges; the update does not depend on how a period is
+// split; an aged contact does not creep until its mobilisation rises; asperity wear
+// follows the slip and lowers the Coulomb limit; bond corrosion has a threshold;
+// dissipation is booked as creep energy.
 #include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
 
 #include "engine/core/world.hpp"
 #include "engine/creep/rate_process_creep.hpp"
@@ -26,44 +31,121 @@ World two_spheres() {
 }
 }  // namespace
 
-TEST_CASE("viscous slip relaxes the shear force and converges below sliding", "[protocol][creep]") {
+static creep::RateProcessParams base() {
+    creep::RateProcessParams p;
+    p.slip_rate_a_m_s = 3e-9;
+    p.slip_capacity_m = 1e-5;
+    return p;
+}
+
+static double shear_of(const World& w) { return w.contacts().shear_force[0].norm(); }
+
+TEST_CASE("delayed slip relaxes the shear force and converges", "[protocol][creep]") {
     World w = two_spheres();
     auto& c = w.contacts();
     REQUIRE(c.active[0]);
     const double fn = c.normal_force[0];
     c.shear_force[0] = Vec3(0, 0.6 * 0.4 * fn, 0);  // f = 0.6
-    creep::RateProcessParams p;
-    p.slip_rate_a_m_s = 3e-9;
-    p.slip_hardening_length_m = 1e-5;
-    p.damage_rate_b1_per_s = 1e-9;
-    creep::RateProcessCreep law(p);
+    creep::RateProcessCreep law(base());
     std::vector<double> fs;
     for (int k = 0; k < 40; ++k) {
         law.advance(w, 60.0);
-        fs.push_back(c.shear_force[0].norm());
+        fs.push_back(shear_of(w));
     }
     for (std::size_t k = 1; k < fs.size(); ++k) CHECK(fs[k] <= fs[k - 1]);
     CHECK(fs.back() < 0.6 * 0.4 * fn);
     // Converging: the last ten minutes relax far less than the first ten.
     CHECK((fs[29] - fs[39]) < 0.2 * (0.6 * 0.4 * fn - fs[9]));
     CHECK(w.energy().creep > 0.0);
-    CHECK(law.accumulated_slip(0, 1) > 0.0);
+    CHECK(c.creep_slip[0] > 0.0);
+    // The energy booked is the spring energy released.
+    const double f0 = 0.6 * 0.4 * fn;
+    CHECK(w.energy().creep == Approx((f0 * f0 - fs.back() * fs.back()) / (2 * 5e5)).epsilon(1e-9));
 }
 
-TEST_CASE("asperity damage grows only above the mobilisation threshold", "[protocol][creep]") {
-    creep::RateProcessParams p;
-    p.slip_rate_a_m_s = 0.0;  // isolate damage
-    p.damage_rate_b1_per_s = 1e-6;
-    p.damage_threshold = 0.9;
-    for (double f : {0.5, 0.95}) {
+TEST_CASE("at fixed mobilisation the slip does not depend on how the period is split", "[protocol][creep]") {
+    // Slip small next to the spring's elastic displacement: f barely changes, so the
+    // exact exponential update must give the same slip for one step or a hundred.
+    auto slip_after = [](int pieces) {
+        World w = two_spheres();
+        w.contacts().shear_force[0] = Vec3(0, 0.5 * 0.4 * w.contacts().normal_force[0], 0);
+        auto p = base();
+        p.slip_capacity_m = 1e-9;
+        creep::RateProcessCreep law(p);
+        for (int k = 0; k < pieces; ++k) law.advance(w, 600.0 / pieces);
+        return w.contacts().creep_slip[0];
+    };
+    const double one = slip_after(1), many = slip_after(100);
+    REQUIRE(one > 0.0);
+    CHECK(one == Approx(many).epsilon(0.02));
+    // And a trial is a dry run.
+    World w = two_spheres();
+    w.contacts().shear_force[0] = Vec3(0, 0.2, 0);
+    creep::RateProcessCreep law(base());
+    const auto t = law.trial(w, 60.0);
+    CHECK(t.relaxation > 0.0);
+    CHECK(shear_of(w) == 0.2);
+    CHECK(w.contacts().creep_slip[0] == 0.0);
+}
+
+TEST_CASE("an aged contact creeps only when its mobilisation rises", "[protocol][creep]") {
+    World w = two_spheres();
+    auto& c = w.contacts();
+    const double fn = c.normal_force[0];
+    c.shear_force[0] = Vec3(0, 0.5 * 0.4 * fn, 0);
+    creep::RateProcessCreep law(base());
+    law.age(w);
+    CHECK(c.creep_slip[0] == Approx(law.equilibrium_slip(0.5)));
+    law.advance(w, 3600.0);
+    CHECK(shear_of(w) == Approx(0.5 * 0.4 * fn).epsilon(1e-12));  // no creep at the aged load
+    c.shear_force[0] = Vec3(0, 0.7 * 0.4 * fn, 0);                 // the next stage's load
+    law.advance(w, 3600.0);
+    CHECK(shear_of(w) < 0.7 * 0.4 * fn);
+}
+
+TEST_CASE("asperity wear follows the creep slip and lowers the Coulomb limit", "[protocol][creep]") {
+    auto p = base();
+    p.wear_length_m = 2e-6;
+    p.wear_max = 0.5;
+    World w = two_spheres();
+    auto& c = w.contacts();
+    c.shear_force[0] = Vec3(0, 0.5 * 0.4 * c.normal_force[0], 0);
+    creep::RateProcessCreep law(p);
+    const auto s = law.advance(w, 600.0);
+    const double slip = c.creep_slip[0];
+    REQUIRE(slip > 0.0);
+    const double wear = c.asperity_wear[0];
+    CHECK(wear == Approx(0.5 * (1 - std::exp(-slip / 2e-6))));
+    CHECK(s.mean_asperity_wear == Approx(wear));
+    // The engine's slider now holds only mu (1 - wear) Fn: push the contact further along
+    // its shear force (the force on j opposes j's motion).
+    w.particles().velocity[1] = Vec3(0, -1e-2, 0);
+    w.cycle(1000);
+    CHECK(shear_of(w) == Approx(0.4 * (1 - wear) * c.normal_force[0]).epsilon(1e-6));
+    // No wear without slip.
+    World q = two_spheres();
+    q.contacts().shear_force[0] = Vec3(0, 0.1, 0);
+    auto p0 = p;
+    p0.slip_rate_a_m_s = 0.0;
+    creep::RateProcessCreep still(p0);
+    still.advance(q, 3600.0);
+    CHECK(q.contacts().asperity_wear[0] == 0.0);
+}
+
+TEST_CASE("bond corrosion grows only above its load threshold", "[protocol][creep]") {
+    for (double rho : {0.5, 0.95}) {
         World w = two_spheres();
         auto& c = w.contacts();
-        c.shear_force[0] = Vec3(0, f * 0.4 * c.normal_force[0], 0);
-        creep::RateProcessParams q = p;
-        q.slip_rate_a_m_s = 1e-12;  // a trickle so the contact state is tracked
-        creep::RateProcessCreep law(q);
+        c.bonded[0] = 1;
+        c.bond_shear_strength[0] = 10.0;
+        c.bond_normal_strength[0] = 10.0;
+        c.shear_force[0] = Vec3(0, rho * 10.0, 0);
+        creep::RateProcessParams p;
+        p.bond_corrosion_b1_per_s = 1e-6;
+        p.bond_corrosion_threshold = 0.9;
+        creep::RateProcessCreep law(p);
         const auto s = law.advance(w, 3600.0);
-        if (f < 0.9) CHECK(s.mean_asperity_damage == 0.0);
-        else CHECK(s.mean_asperity_damage > 0.0);
+        if (rho < 0.9) CHECK(s.mean_damage == 0.0);
+        else CHECK(s.mean_damage > 0.0);
     }
 }

@@ -58,7 +58,7 @@ TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
           "/gradation/sieve_curve/1");
 }
 
-TEST_CASE("presets are the five paper groups; D and E differ from B only in moisture", "[protocol][io]") {
+TEST_CASE("presets are the five paper groups, D and E differ from B only in moisture", "[protocol][io]") {
     const json p = io::presets_to_json();
     REQUIRE(p["presets"].size() == 5);
     auto b = protocol::paper_group("B"), d = protocol::paper_group("D");

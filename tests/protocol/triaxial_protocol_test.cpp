@@ -87,21 +87,29 @@ TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
     const auto& r = creep_run();
     REQUIRE(r.creep_stages.size() == 4);
     const auto& s1 = r.creep_stages[0];
-    CHECK(s1.converged);
     CHECK(s1.stress_level == Approx(0.1).epsilon(0.05));
-    // Creep (deformation after loading) grows with the stress level.
+    // Paper: at S = 0.1 the transient elastic part is >= 90 % of the stage's deformation
+    // (contact aging: the first load adds little mobilisation beyond the aged state).
+    CHECK(s1.elastic_share >= 0.9);
+    CHECK(s1.converged);
+    // At S = 0.4 and 0.6 creep decelerates and converges.
+    CHECK(r.creep_stages[1].converged);
+    CHECK(r.creep_stages[2].converged);
+    CHECK_FALSE(r.creep_stages[1].accelerating);
+    CHECK_FALSE(r.creep_stages[2].accelerating);
+    // Creep (deformation after loading) grows with the stress level, and is more than
+    // numerical drift at 0.4 and 0.6 (the relaxation servo alone gives ~1 um).
     auto creep_of = [](const CreepStageResult& s) { return s.final_deformation_m - s.instant_deformation_m; };
-    CHECK(creep_of(r.creep_stages[3]) > creep_of(r.creep_stages[0]));
+    CHECK(creep_of(r.creep_stages[1]) > 5.0 * creep_of(r.creep_stages[0]));
+    CHECK(creep_of(r.creep_stages[2]) > creep_of(r.creep_stages[1]));
+    CHECK(creep_of(r.creep_stages[1]) > 0.1 * r.creep_stages[1].instant_deformation_m);
     // Stage curves are coordinate-translated: each starts at t = 0.
     for (const auto& s : r.creep_stages) CHECK(s.translated.front().time_s == 0.0);
 }
 
-TEST_CASE("(3b) the paper's thresholds: S=0.1 elastic >= 90 %, S=0.8 accelerating", "[.][paper-gap][protocol]") {
+TEST_CASE("(3b) the paper's tertiary creep: S=0.8 accelerates late", "[.][paper-gap][protocol]") {
     const auto& r = creep_run();
     REQUIRE(r.creep_stages.size() == 4);
-    CHECK(r.creep_stages[0].elastic_share >= 0.9);
-    CHECK(r.creep_stages[1].converged);
-    CHECK(r.creep_stages[2].converged);
     CHECK(r.creep_stages[3].accelerating);
 }
 
