@@ -97,9 +97,13 @@ std::vector<ParameterSpec> DemForwardModel::base_parameters() const {
         // resistance, docs/diagnosis.md), which hides the effect the loop must find.
         {"friction", "-", 0.1, 0.7, std::clamp(m.friction, 0.1, 0.7), false}};
     if (bonded_)
-        // Prior: within a decade of the scheme's moisture relation either way (measured: at
-        // 0.05..20 the base fit ran to x12 to mimic hidden rolling resistance).
-        p.push_back({"bond_strength_scale", "-", 0.1, 10.0, 1.0, true});
+        // Prior: within a factor 3 of the scheme's moisture relation either way (the
+        // relation itself spans x0.62..x1 over the paper's moisture range). Wider, the base
+        // fit mimics hidden rolling resistance with cementation: measured at 100 kPa on the
+        // CI specimen, bonds x10 raise q at 0.5 % strain from 152 to 300 kPa, as much as
+        // mu_r 0.25 does (x3: 186 kPa); the fit ran to x12 at 0.05..20 and to the bound at
+        // 0.1..10 (docs/diagnosis.md section 8). A bound reached is stated in the verdict.
+        p.push_back({"bond_strength_scale", "-", 1.0 / 3.0, 3.0, 1.0, true});
     if (base_.effects.contact_creep_viscosity && creep_in_lab_)
         p.push_back({"creep_slip_rate_scale", "-", 0.01, 100.0, 1.0, true});
     return p;

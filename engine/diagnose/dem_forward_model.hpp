@@ -7,7 +7,7 @@
 // Base parameters (calibrated in every model):
 //   contact normal modulus E_n (log, 0.2x..5x the scheme's; E_s keeps the scheme's ratio),
 //   particle friction mu (0.1..0.7: a physical prior, see base_parameters()),
-//   contact bond strength (log, 0.1x..10x; normal and shear scaled together) if the
+//   contact bond strength (log, x1/3..x3; normal and shear scaled together) if the
 //     scheme's specimen carries bonds,
 //   creep slip-rate scale A (log, 0.01x..100x) when the creep law is on and the lab
 //     has creep curves (otherwise the creep curves cannot inform it).

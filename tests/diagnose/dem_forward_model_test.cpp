@@ -85,6 +85,41 @@ TEST_CASE("DEM forward model maps parameters onto the scheme and skips effects a
     CHECK_THROWS_WITH(model.scheme_for(artefact, 100e3), Catch::Contains("test artefact"));
 }
 
+TEST_CASE("DEM forward model: creep-only effects are not offered on shear-only data", "[diagnose][dem]") {
+    // The protocol applies grain breakage (breakage_damage_scale) to the creep damage rate
+    // only, and contact creep viscosity acts in time: on shear curves alone neither can be
+    // seen (measured: identical shear curves with and without breakage), so neither is a
+    // candidate there, and the base model gets no creep slip-rate parameter.
+    TestScheme base;
+    base.effects.contact_creep_viscosity = false;
+    LabDataset shear_only;
+    LabCurve c;
+    c.kind = CurveKind::Shear;
+    c.confining_pa = 100e3;
+    c.axial_strain = {0.0, 0.01, 0.02};
+    c.deviator_pa = {0.0, 1e5, 2e5};
+    shear_only.curves.push_back(c);
+    const DemForwardModel shear_model(base, shear_only, 1, 0);
+    CHECK(shear_model.effect_parameters(Effect::BondDegradation).empty());
+    CHECK(shear_model.effect_parameters(Effect::ContactCreepViscosity).empty());
+    CHECK(shear_model.effect_parameters(Effect::RollingResistance).size() == 1);
+
+    const DemForwardModel creep_model(base, lab_conditions(), 1, 0);
+    REQUIRE(creep_model.effect_parameters(Effect::BondDegradation).size() == 1);
+    CHECK(creep_model.effect_parameters(Effect::BondDegradation)[0].name == "breakage_damage_scale");
+    CHECK(creep_model.effect_parameters(Effect::ContactCreepViscosity).size() == 1);
+
+    // Physical priors of the base parameters (docs/diagnosis.md section 6): friction of
+    // mineral grains, bond strength within a factor 3 of the moisture relation.
+    const auto specs = shear_model.base_parameters();
+    REQUIRE(specs.size() == 3);
+    CHECK(specs[1].lower == Approx(0.1));
+    CHECK(specs[1].upper == Approx(0.7));
+    CHECK(specs[2].name == "bond_strength_scale");
+    CHECK(specs[2].lower == Approx(1.0 / 3.0));
+    CHECK(specs[2].upper == Approx(3.0));
+}
+
 TEST_CASE("DEM forward model: one reduced shear run, timed", "[diagnose][dem][.timing]") {
     TestScheme base = reduced_scheme();
     LabDataset lab;

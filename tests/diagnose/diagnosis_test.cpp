@@ -153,6 +153,30 @@ TEST_CASE("a misfit outside the catalog is reported as unexplained with where it
     CHECK(r.n_effective < 0.6 * r.n_readings);  // structured residual: readings are correlated
 }
 
+// A model that cannot show one catalog effect on the given data (as the DEM's grain
+// breakage on shear-only data): the effect is never a candidate and the verdict says it
+// was not testable, so "no effect found" is not read as "no breakage".
+struct WithoutBondDegradation final : ForwardModel {
+    AnalyticTriaxialModel inner;
+    std::vector<ParameterSpec> base_parameters() const override { return inner.base_parameters(); }
+    std::vector<ParameterSpec> effect_parameters(Effect e) const override {
+        return e == Effect::BondDegradation ? std::vector<ParameterSpec>{} : inner.effect_parameters(e);
+    }
+    LabDataset simulate(const ModelPoint& p, std::uint64_t seed) const override { return inner.simulate(p, seed); }
+};
+
+TEST_CASE("an effect the model cannot show on the data is not offered, and the verdict says so", "[diagnose][loop]") {
+    WithoutBondDegradation model;
+    const LabDataset lab = make_synthetic_lab(model.inner, {kTruth, {}}, {});
+    DiagnoseOptions opt;
+    opt.budget_runs = 12;
+    opt.refine_runs = 4;
+    Recorder rec;
+    const auto r = run_diagnosis(lab, model, opt, rec);
+    for (const auto& c : r.candidates) CHECK(c.effect != "bond_degradation");
+    CHECK_THAT(r.verdict, Catch::Contains("not testable on these data with this model: bond_degradation"));
+}
+
 TEST_CASE("concurrent evaluations: same verdict, and reproducible for a seed", "[diagnose][loop]") {
     AnalyticTriaxialModel model;
     const LabDataset lab = make_synthetic_lab(model, {kTruth, {{Effect::RollingResistance, {0.2}}}}, {});
