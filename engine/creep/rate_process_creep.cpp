@@ -36,7 +36,7 @@ void RateProcessCreep::age(World& world) const {
 }
 
 CreepUpdateSummary RateProcessCreep::trial(const World& world, double dt) const {
-    return const_cast<RateProcessCreep*>(this)->update<false>(const_cast<World&>(world), dt);
+    return update<false>(world, dt);
 }
 
 CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) const {
@@ -46,7 +46,7 @@ CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) const {
 }
 
 template <bool kApply>
-CreepUpdateSummary RateProcessCreep::update(World& world, double dt) const {
+CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, const World&> world, double dt) const {
     if (!(dt >= 0.0)) throw InputError("creep advance: dt must be >= 0 s");
     CreepUpdateSummary out;
     auto& c = world.contacts();
@@ -77,7 +77,7 @@ CreepUpdateSummary RateProcessCreep::update(World& world, double dt) const {
             if (p_.wear_length_m > 0.0 && delta > 0.0)
                 wear = p_.wear_max - (p_.wear_max - wear) * std::exp(-delta / p_.wear_length_m);
             wear_sum += wear;
-            if (kApply) {
+            if constexpr (kApply) {
                 const double fs_new = fs - law.ks * delta;
                 out.dissipated_j += 0.5 * (fs * fs - fs_new * fs_new) / law.ks;
                 if (fs > 0.0) c.shear_force[k] *= fs_new / fs;
@@ -96,7 +96,7 @@ CreepUpdateSummary RateProcessCreep::update(World& world, double dt) const {
                 if (rho > p_.bond_corrosion_threshold) {
                     dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
                     ++out.bonds_damaged;
-                    if (kApply) c.damage[k] = dmg;
+                    if constexpr (kApply) c.damage[k] = dmg;
                 }
             }
             damage_sum += dmg;
@@ -109,6 +109,6 @@ CreepUpdateSummary RateProcessCreep::update(World& world, double dt) const {
 }
 
 template CreepUpdateSummary RateProcessCreep::update<true>(World&, double) const;
-template CreepUpdateSummary RateProcessCreep::update<false>(World&, double) const;
+template CreepUpdateSummary RateProcessCreep::update<false>(const World&, double) const;
 
 }  // namespace triax::creep

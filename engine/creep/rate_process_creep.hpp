@@ -26,6 +26,7 @@
 // creep comes from the mobilisation it adds. The DEM cycles after each update carry no
 // physical time: the clock advances by dt only (quasi-static mapping).
 #include <cstdint>
+#include <type_traits>
 
 #include "engine/core/world.hpp"
 
@@ -76,8 +77,9 @@ public:
     }
 
 private:
+    // One pass over the contacts; writes the world only when kApply (a trial reads it).
     template <bool kApply>
-    CreepUpdateSummary update(World& world, double dt_s) const;
+    CreepUpdateSummary update(std::conditional_t<kApply, World&, const World&> world, double dt_s) const;
     RateProcessParams p_;
 };
 
