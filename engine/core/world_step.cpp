@@ -14,7 +14,13 @@ namespace triax {
 
 namespace {
 
-constexpr int kBlock = 1024;
+// Reduction blocks: partial sums per block, summed serially in block order, so results
+// do not depend on the thread count or on which thread ran a block. Blocks are handed
+// out dynamically: the work per item is uneven (a specimen's grains come first and have
+// more contacts than its membrane spheres; far candidate slots cost almost nothing), and
+// static halves left one of two threads idle for up to half of the step.
+constexpr int kBlock = 1024;          // contact slots
+constexpr int kParticleBlock = 256;   // particles (gather + integration)
 // Below this many items a parallel region costs more than it saves (thread wake-up);
 // the block structure is the same either way, so results do not change.
 constexpr long kParallelMin = 4096;
@@ -46,7 +52,7 @@ void ball_contacts(ContactStore& c, const ParticleArrays& pa, const std::vector<
     const long ns = static_cast<long>(c.size());
     const long nb = (ns + kBlock - 1) / kBlock;
     blocks.assign(nb, ContactSums{});
-#pragma omp parallel for schedule(static) num_threads(threads) if (ns >= kParallelMin)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (ns >= kParallelMin)
     for (long b = 0; b < nb; ++b) {
         ContactSums sums;
         const long end = std::min(ns, (b + 1) * kBlock);
@@ -209,7 +215,7 @@ void World::compute_contact_forces() {
 
 void World::gather_and_integrate() {
     const long n = static_cast<long>(particles_.size());
-    const long nb = (n + kBlock - 1) / kBlock;
+    const long nb = (n + kParticleBlock - 1) / kParticleBlock;
     std::vector<ParticleSums> blocks(nb);
     ParticleArrays& pa = particles_;
     const ContactStore& c = contacts_;
@@ -227,19 +233,23 @@ void World::gather_and_integrate() {
     const double side_sign[2] = {-1.0, 1.0};
     const Vec3* const side_torque[2] = {c.torque_on_i.data(), c.torque_on_j.data()};
 
-#pragma omp parallel for schedule(static) num_threads(threads_) if (n >= kParallelMin)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (n >= kParallelMin)
     for (long b = 0; b < nb; ++b) {
         ParticleSums s;
-        const long end = std::min(n, (b + 1) * kBlock);
-        for (long p = b * kBlock; p < end; ++p) {
+        const long end = std::min(n, (b + 1) * kParticleBlock);
+        for (long p = b * kParticleBlock; p < end; ++p) {
             Vec3 f = Vec3::Zero(), t = Vec3::Zero();
             double kt = 0.0, kr = 0.0;
             for (int e = adj_start_[p]; e < adj_start_[p + 1]; ++e) {
                 // Branch-free: the side bit picks the sign of the force and the torque array.
                 const int slot = adj_[e] >> 1, side = adj_[e] & 1;
+                // Inactive slots (candidates not touching) hold zero force and torque
+                // (ball_contacts keeps that invariant): skipping them saves three
+                // scattered loads and leaves the sums bitwise unchanged.
+                if (!c.active[slot]) continue;
                 f += side_sign[side] * c.force_on_j[slot];
                 t += side_torque[side][slot];
-                if (need_stiffness && c.active[slot]) {
+                if (need_stiffness) {
                     const ContactLaw& l = laws[c.law[slot]];
                     kt += l.kn + l.ks;
                     kr += l.ks * pa.radius[p] * pa.radius[p];
@@ -247,9 +257,10 @@ void World::gather_and_integrate() {
             }
             for (int e = wall_adj_start_[p]; e < wall_adj_start_[p + 1]; ++e) {
                 const int slot = wall_adj_[e];
+                if (!wc.active[slot]) continue;  // zero force and torque, as above
                 f += wc.force_on_particle[slot];
                 t += wc.torque_on_particle[slot];
-                if (need_stiffness && wc.active[slot]) {
+                if (need_stiffness) {
                     const ContactLaw& l = laws[wc.law[slot]];
                     kt += l.kn + l.ks;
                     kr += l.ks * pa.radius[p] * pa.radius[p];
