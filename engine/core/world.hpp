@@ -136,8 +136,15 @@ private:
     void rebuild_neighbors();
     int law_index(int group_a, int group_b);
     void refresh_resolved_laws();
-    void compute_contact_forces();
-    void gather_and_integrate();
+    // Phases of one step (world_step.cpp); StepState holds the per-block partial sums.
+    struct StepState;
+    void prepare_step(StepState& st);
+    void contact_block(StepState& st, long block);
+    void wall_contacts_pass(StepState& st);
+    void finish_contact_forces(StepState& st);
+    void particle_block(StepState& st, long block);
+    void finish_particles(StepState& st);
+    void finish_step(StepState& st);
     void integrate_clumps();
     void move_walls();
     void check_stability();

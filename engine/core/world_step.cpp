@@ -1,13 +1,18 @@
 // World::cycle: the time step. Forces go into per-contact slots (parallel over
 // contacts, no shared writes), then each particle gathers its slots in a fixed order
 // (parallel over particles). Reductions go through fixed-size blocks summed serially,
-// so results do not depend on the thread count.
+// so results do not depend on the thread count. With 2+ threads a run of steps shares
+// one OpenMP region and meets at three barriers per step, not two regions per step.
 #include "engine/contact/linear.hpp"
 #include "engine/core/world.hpp"
 #include "engine/integrate/local_damping.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <exception>
 #include <sstream>
 
 namespace triax {
@@ -46,14 +51,12 @@ struct ParticleSums {
     int cause = 0;
 };
 
+// One block of ball-ball slots: forces into the slots, energies into the block's sums.
 template <bool kRolling>
-void ball_contacts(ContactStore& c, const ParticleArrays& pa, const std::vector<LinearContact::Params>& params,
-                   double dt, int threads, std::vector<ContactSums>& blocks) {
+ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vector<LinearContact::Params>& params,
+                       double dt, long b) {
     const long ns = static_cast<long>(c.size());
-    const long nb = (ns + kBlock - 1) / kBlock;
-    blocks.assign(nb, ContactSums{});
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (ns >= kParallelMin)
-    for (long b = 0; b < nb; ++b) {
+    {
         ContactSums sums;
         const long end = std::min(ns, (b + 1) * kBlock);
         for (long k = b * kBlock; k < end; ++k) {
@@ -111,24 +114,41 @@ void ball_contacts(ContactStore& c, const ParticleArrays& pa, const std::vector<
             c.torque_on_i[k] = ai.cross(-o.force) - o.moment;
             c.torque_on_j[k] = aj.cross(o.force) + o.moment;
         }
-        blocks[b] = sums;
+        return sums;
     }
 }
 
 }  // namespace
 
-void World::compute_contact_forces() {
+// Scratch of one cycle() call: the laws' evaluator parameters (laws do not change during
+// a call) and the per-block partial sums of the current step.
+struct World::StepState {
     std::vector<LinearContact::Params> params;
-    params.reserve(resolved_laws_.size());
-    for (const ContactLaw& l : resolved_laws_) params.push_back(LinearContact::Params::from(l));
+    std::vector<ContactSums> contact_blocks;
+    std::vector<ParticleSums> particle_blocks;
+    ContactSums wall_sums;
+    long contact_block_count = 0, particle_block_count = 0;
+};
 
-    std::vector<ContactSums> blocks;
-    if (any_rolling_) ball_contacts<true>(contacts_, particles_, params, dt_, threads_, blocks);
-    else ball_contacts<false>(contacts_, particles_, params, dt_, threads_, blocks);
-    ContactSums total;
-    for (const ContactSums& b : blocks) total.add(b);
+void World::prepare_step(StepState& st) {
+    st.contact_block_count = (static_cast<long>(contacts_.size()) + kBlock - 1) / kBlock;
+    st.contact_blocks.assign(st.contact_block_count, ContactSums{});
+    const long n = static_cast<long>(particles_.size());
+    st.particle_block_count = (n + kParticleBlock - 1) / kParticleBlock;
+    st.particle_blocks.assign(st.particle_block_count, ParticleSums{});
+    st.wall_sums = ContactSums{};
+}
 
-    // Wall contacts: few, done serially in slot order (also gives the wall forces).
+void World::contact_block(StepState& st, long b) {
+    st.contact_blocks[b] = any_rolling_ ? ball_block<true>(contacts_, particles_, st.params, dt_, b)
+                                        : ball_block<false>(contacts_, particles_, st.params, dt_, b);
+}
+
+// Wall contacts: few, done in slot order by one thread (also gives the wall forces).
+// Touches only wall slots, walls and reads particles: may run beside the ball blocks.
+void World::wall_contacts_pass(StepState& st) {
+    const std::vector<LinearContact::Params>& params = st.params;
+    ContactSums& total = st.wall_sums;
     for (auto& w : plane_walls_) { w.force.setZero(); w.contact_count = 0; }
     for (auto& w : cylinder_walls_) { w.force.setZero(); w.radial_force = 0.0; w.contact_count = 0; }
     WallContactStore& wc = wall_contacts_;
@@ -201,7 +221,12 @@ void World::compute_contact_forces() {
             ++w.contact_count;
         }
     }
+}
 
+void World::finish_contact_forces(StepState& st) {
+    ContactSums total;
+    for (const ContactSums& b : st.contact_blocks) total.add(b);
+    total.add(st.wall_sums);
     broken_tension_ += total.broke_tension;
     broken_shear_ += total.broke_shear;
     if (track_energy_) {
@@ -213,10 +238,8 @@ void World::compute_contact_forces() {
     }
 }
 
-void World::gather_and_integrate() {
+void World::particle_block(StepState& st, long b) {
     const long n = static_cast<long>(particles_.size());
-    const long nb = (n + kParticleBlock - 1) / kParticleBlock;
-    std::vector<ParticleSums> blocks(nb);
     ParticleArrays& pa = particles_;
     const ContactStore& c = contacts_;
     const WallContactStore& wc = wall_contacts_;
@@ -233,8 +256,7 @@ void World::gather_and_integrate() {
     const double side_sign[2] = {-1.0, 1.0};
     const Vec3* const side_torque[2] = {c.torque_on_i.data(), c.torque_on_j.data()};
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (n >= kParallelMin)
-    for (long b = 0; b < nb; ++b) {
+    {
         ParticleSums s;
         const long end = std::min(n, (b + 1) * kParticleBlock);
         for (long p = b * kParticleBlock; p < end; ++p) {
@@ -311,11 +333,15 @@ void World::gather_and_integrate() {
             }
             s.max_disp2 = std::max(s.max_disp2, (pa.position[p] - rebuild_position_[p]).squaredNorm());
         }
-        blocks[b] = s;
+        st.particle_blocks[b] = s;
     }
+}
 
+void World::finish_particles(StepState& st) {
+    ParticleArrays& pa = particles_;
+    const double dt = dt_;
     ParticleSums total;
-    for (const ParticleSums& s : blocks) {
+    for (const ParticleSums& s : st.particle_blocks) {
         total.kinetic += s.kinetic; total.damping += s.damping; total.boundary += s.boundary; total.body += s.body;
         total.max_disp2 = std::max(total.max_disp2, s.max_disp2);
         if (total.bad < 0 && s.bad >= 0) { total.bad = s.bad; total.cause = s.cause; }
@@ -435,21 +461,87 @@ void World::check_stability() {
     }
 }
 
+void World::finish_step(StepState& st) {
+    finish_contact_forces(st);
+    finish_particles(st);
+    integrate_clumps();
+    move_walls();
+    check_stability();
+    ++step_;
+    time_ += dt_;
+}
+
 void World::cycle(long n) {
     if (n < 0) throw InputError("cycle: field 'steps' must be >= 0, got " + std::to_string(n));
     if (n == 0) return;
     if (!(dt_ > 0)) throw InputError("cycle: time step not set; call set_time_step(critical_time_step()) first");
     if (particles_.size() == 0) throw InputError("cycle: the world has no particles");
-    for (long s = 0; s < n; ++s) {
+    StepState st;
+
+    const bool team = threads_ > 1 && static_cast<long>(particles_.size()) >= kParallelMin;
+    long s = 0;
+    while (s < n) {
         ensure_ready();
-        if (need_rebuild_) rebuild_neighbors();
-        compute_contact_forces();
-        gather_and_integrate();
-        integrate_clumps();
-        move_walls();
-        check_stability();
-        ++step_;
-        time_ += dt_;
+        if (need_rebuild_) rebuild_neighbors();  // serial merge; the cell search is parallel
+        // A rebuild may meet a new group pair (a new resolved law).
+        st.params.clear();
+        for (const ContactLaw& l : resolved_laws_) st.params.push_back(LinearContact::Params::from(l));
+        if (!team) {
+            // One thread (or a model too small to share): the same phases in order.
+            prepare_step(st);
+            const long nc = st.contact_block_count, np = st.particle_block_count;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (threads_ > 1 && nc * kBlock >= kParallelMin)
+            for (long b = 0; b < nc; ++b) contact_block(st, b);
+            wall_contacts_pass(st);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (threads_ > 1 && np * kParticleBlock >= kParallelMin)
+            for (long b = 0; b < np; ++b) particle_block(st, b);
+            finish_step(st);
+            ++s;
+            continue;
+        }
+        // Thread team: one OpenMP region for a run of steps (until the neighbour list must be
+        // rebuilt or the call ends), three barriers per step. A region per phase cost a fork
+        // and a join each, i.e. four thread wake-ups per step (libgomp: a futex each under
+        // OMP_WAIT_POLICY=passive); see docs/engine.md, "Performance". Blocks are handed out by
+        // atomic counters and reduced in block order, so results equal the one-thread path.
+        std::atomic<long> next_contact{0}, next_particle{0};
+        std::atomic<bool> leave{false};
+        std::exception_ptr error;
+        long done = s;
+#pragma omp parallel num_threads(threads_)
+        {
+            const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
+            if (tid == 0) prepare_step(st);
+#pragma omp barrier
+            while (true) {
+                // Contacts: the last thread takes the wall contacts first, then joins the blocks.
+                if (tid == nt - 1) wall_contacts_pass(st);
+                for (long b; (b = next_contact.fetch_add(1, std::memory_order_relaxed)) < st.contact_block_count;)
+                    contact_block(st, b);
+#pragma omp barrier
+                for (long b; (b = next_particle.fetch_add(1, std::memory_order_relaxed)) < st.particle_block_count;)
+                    particle_block(st, b);
+#pragma omp barrier
+                if (tid == 0) {
+                    // Serial rest of the step, then the next step's set-up (others wait).
+                    try {
+                        finish_step(st);
+                        ++done;
+                        if (done >= n || need_rebuild_) leave.store(true, std::memory_order_relaxed);
+                        else prepare_step(st);
+                    } catch (...) {
+                        error = std::current_exception();
+                        leave.store(true, std::memory_order_relaxed);
+                    }
+                    next_contact.store(0, std::memory_order_relaxed);
+                    next_particle.store(0, std::memory_order_relaxed);
+                }
+#pragma omp barrier
+                if (leave.load(std::memory_order_relaxed)) break;
+            }
+        }
+        if (error) std::rethrow_exception(error);
+        s = done;
     }
 }
 

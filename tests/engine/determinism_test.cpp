@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <string>
 
 using namespace triax;
 
@@ -52,6 +53,49 @@ TEST_CASE("1 and 2 threads give bitwise identical trajectories", "[engine][paral
     CHECK(differing == 0);
     CHECK(one.energy().slip == two.energy().slip);
     CHECK(one.energy().damping == two.energy().damping);
+}
+
+// The 2-thread step runs a run of steps in one thread team and leaves it for every
+// neighbour rebuild and at the end of each cycle() call: many short calls (as the
+// protocol's servo chunks make) must give the same trajectory as one long call.
+TEST_CASE("2 threads in short cycle() calls equal 1 thread in one call", "[engine][parallel]") {
+    const auto spheres = test::lattice_spheres(kSide, kRmin, kRmax, 7);
+    std::vector<int> order(spheres.size());
+    std::iota(order.begin(), order.end(), 0);
+    World one = make_world(spheres, order, 1);
+    World two = make_world(spheres, order, 2);
+    one.cycle(600);
+    for (int k = 0; k < 60; ++k) two.cycle(k % 2 ? 7 : 13);
+    REQUIRE(two.step() == 600);
+    REQUIRE(one.neighbor_rebuild_count() > 2);
+    CHECK(one.neighbor_rebuild_count() == two.neighbor_rebuild_count());
+    long differing = 0;
+    for (std::size_t p = 0; p < spheres.size(); ++p) {
+        differing += one.particles().position[p] != two.particles().position[p];
+        differing += one.particles().velocity[p] != two.particles().velocity[p];
+    }
+    CHECK(differing == 0);
+    CHECK(one.energy().kinetic == two.energy().kinetic);
+    CHECK(one.energy().slip == two.energy().slip);
+}
+
+TEST_CASE("an instability inside the 2-thread team is thrown with its step", "[engine][parallel][errors]") {
+    const auto spheres = test::lattice_spheres(kSide, kRmin, kRmax, 7);
+    std::vector<int> order(spheres.size());
+    std::iota(order.begin(), order.end(), 0);
+    World two = make_world(spheres, order, 2);
+    two.cycle(20);
+    // A particle that jumps more than its radius per step: "exploding kinetic energy".
+    two.particles().velocity[100] = Vec3(0, 0, 1e6);
+    try {
+        two.cycle(50);
+        FAIL("no SimulationError");
+    } catch (const SimulationError& e) {
+        CHECK(e.step() == 20);
+        CHECK(std::string(e.what()).find("particle 100") != std::string::npos);
+    }
+    // The world stays usable: the step counter did not advance past the failed step.
+    CHECK(two.step() == 20);
 }
 
 // Reordering changes the order of floating-point sums (gather lists follow indices), so
