@@ -508,11 +508,10 @@ void World::cycle(long n) {
         std::atomic<bool> leave{false};
         std::exception_ptr error;
         long done = s;
+        prepare_step(st);
 #pragma omp parallel num_threads(threads_)
         {
             const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
-            if (tid == 0) prepare_step(st);
-#pragma omp barrier
             while (true) {
                 // Contacts: the last thread takes the wall contacts first, then joins the blocks.
                 if (tid == nt - 1) wall_contacts_pass(st);
