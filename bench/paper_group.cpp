@@ -5,7 +5,7 @@
 // Usage: paper_group [A|B|C|D|E] [threads] [out.json|-] [--shear-only] [--reduced] [--stage-hours H]
 // (--reduced: the 50 x 100 mm specimen of the protocol tests, same sigma3, for comparison;
 //  --stage-hours H: every creep stage lasts H hours instead of the preset's 2.5 days, the
-//  short benchmark of docs/engine.md, "Full-size group")
+//  short benchmark of docs/engine.md, "Performance of the full-size paper group")
 // Run with OMP_WAIT_POLICY=passive on a shared machine (spinning threads steal the core).
 #include <chrono>
 #include <cstdio>

@@ -502,8 +502,9 @@ void World::cycle(long n) {
         // Thread team: one OpenMP region for a run of steps (until the neighbour list must be
         // rebuilt or the call ends), three barriers per step. A region per phase cost a fork
         // and a join each, i.e. four thread wake-ups per step (libgomp: a futex each under
-        // OMP_WAIT_POLICY=passive); see docs/engine.md, "Performance". Blocks are handed out by
-        // atomic counters and reduced in block order, so results equal the one-thread path.
+        // OMP_WAIT_POLICY=passive); docs/engine.md, "Performance of the full-size paper group".
+        // Blocks are handed out by atomic counters and reduced in block order, so results
+        // equal the one-thread path.
         std::atomic<long> next_contact{0}, next_particle{0};
         std::atomic<bool> leave{false};
         std::exception_ptr error;
