@@ -1,7 +1,7 @@
 // Creep-law exploration on the reduced CI specimen (or a larger one): runs the creep test
 // with parameters overridden on the command line and prints each stage's summary.
-// Usage: creep_explore [key=value ...]  keys: A beta sh eps sw dmax b1 relax hours seed
-//        dmm (specimen diameter mm) rmin_mm ratio first growth cap threads
+// Usage: creep_explore [key=value ...]  keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax hours seed
+//        dmm (specimen diameter mm) rmin_mm ratio first growth cap threads s3 verbose
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     s.creep.max_increment_s = 1800.0;
     s.seed = 11;
     double sigma3_kpa = 100.0;
+    bool verbose = false;
     for (int a = 1; a < argc; ++a) {
         const std::string arg = argv[a];
         const auto eq = arg.find('=');
@@ -33,6 +34,9 @@ int main(int argc, char** argv) {
         else if (k == "sh") s.creep.slip_hardening_length_m = v;
         else if (k == "eps") s.creep.capacity_offset = v;
         else if (k == "age") s.creep.aging_margin = v;
+        else if (k == "fc") s.creep.critical_mobilisation = v;
+        else if (k == "swf") s.creep.flow_wear_length_m = v * 1e-6;
+        else if (k == "af") s.creep.flow_rate_scale = v;
         else if (k == "sw") s.creep.wear_length_m = v;
         else if (k == "b2") s.creep.damage_b2 = v;
         else if (k == "fth") s.creep.damage_threshold = v;
@@ -49,12 +53,20 @@ int main(int argc, char** argv) {
         else if (k == "cap") s.creep.max_increment_s = v;
         else if (k == "threads") s.threads = static_cast<int>(v);
         else if (k == "s3") sigma3_kpa = v;
+        else if (k == "verbose") verbose = v != 0;
         else { std::fprintf(stderr, "unknown key %s\n", k.c_str()); return 2; }
     }
     s.loading.confining_pressure_pa = sigma3_kpa * 1e3;
     s.loading.stage_durations_s.assign(4, hours * 3600.0);
-    RunObserver none;
-    const auto r = run_triaxial_test(s, none, Phase::Creep);
+    // verbose=1 prints each creep reading (stage, t min, deformation mm) to stderr.
+    struct Trace : RunObserver {
+        bool on = false;
+        void creep_point(int stage, const CreepPoint& p) override {
+            if (on) std::fprintf(stderr, "stage %d t %.1f min d %.4f mm\n", stage, p.time_s / 60, p.axial_deformation_m * 1e3);
+        }
+    } trace;
+    trace.on = verbose;
+    const auto r = run_triaxial_test(s, trace, Phase::Creep);
     std::printf("q_f %.1f kPa, grains?, relaxations %ld, wall %.1f s\n", r.q_failure_pa / 1e3, r.creep_relaxations, r.wall_time_s);
     for (const auto& st : r.creep_stages) {
         const double creep = st.final_deformation_m - st.instant_deformation_m;

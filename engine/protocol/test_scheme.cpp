@@ -40,7 +40,11 @@ void TestScheme::validate() const {
     require(creep.slip_hardening_length_m > 0.0, "creep.slip_hardening_length_m", "must be > 0");
     require(creep.capacity_offset > 0.0 && creep.capacity_offset <= 1.0, "creep.capacity_offset", "must be in (0, 1]");
     require(creep.aging_margin >= 0.0 && creep.aging_margin <= 1.0, "creep.aging_margin", "must be in [0, 1]");
+    require(creep.critical_mobilisation > 0.0 && creep.critical_mobilisation <= 2.0, "creep.critical_mobilisation",
+            "must be in (0, 2] (> 1 switches the secondary flow off)");
     require(creep.wear_length_m >= 0.0, "creep.wear_length_m", "must be >= 0");
+    require(creep.flow_rate_scale >= 0.0, "creep.flow_rate_scale", "must be >= 0");
+    require(creep.flow_wear_length_m >= 0.0, "creep.flow_wear_length_m", "must be >= 0");
     require(creep.wear_max >= 0.0 && creep.wear_max < 1.0, "creep.wear_max", "must be in [0, 1)");
     require(creep.damage_rate_b1_per_s >= 0.0, "creep.damage_rate_b1_per_s", "must be >= 0");
     require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,

@@ -71,9 +71,19 @@ struct CreepLawParameters {
     // Contact aging: a contact held for a stage (or the consolidation) bears this rise of
     // its mobilisation before it creeps again (static friction grows with hold time).
     double aging_margin = 0.2;
+    // Secondary flow: a contact at mobilisation f >= f_c slips steadily at A_f sinh(beta f)
+    // with no capacity, until its spring relaxes f to f_c (docs/creep.md); > 1 = off.
+    // Off by default: with it on, the reduced specimen's S = 0.1 - 0.6 stages stop
+    // converging before S = 0.8 accelerates (docs/creep.md, measured table).
+    double critical_mobilisation = 2.0;
+    // The flow's rate A_f = flow_rate_scale * A: a slow secondary process next to the
+    // delayed slip (docs/creep.md).
+    double flow_rate_scale = 1.0e-3;
     // Asperity wear by creep slip: D = D_max (1 - exp(-slip / s_w)), friction mu (1 - D).
     double wear_length_m = 20.0e-6;        // s_w
     double wear_max = 0.5;                 // D_max
+    // A flowing contact (f >= f_c) wears over this shorter length (docs/creep.md).
+    double flow_wear_length_m = 2.0e-6;    // s_wf
     // Stress corrosion of contact bonds: dD/dt = b1 exp(b2 rho) when rho > threshold,
     // rho = bond load / bond strength.
     double damage_rate_b1_per_s = 1.0e-9;

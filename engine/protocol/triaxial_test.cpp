@@ -258,8 +258,11 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         cp.slip_capacity_m = scheme.creep.slip_hardening_length_m;
         cp.capacity_offset = scheme.creep.capacity_offset;
         cp.aging_margin = scheme.creep.aging_margin;
+        cp.critical_mobilisation = scheme.creep.critical_mobilisation;
+        cp.flow_rate_scale = scheme.creep.flow_rate_scale;
         cp.wear_length_m = scheme.creep.wear_length_m;
         cp.wear_max = scheme.creep.wear_max;
+        cp.flow_wear_length_m = scheme.creep.flow_wear_length_m;
         cp.bond_corrosion_b1_per_s = scheme.creep.damage_rate_b1_per_s * vs *
                                      (scheme.effects.grain_breakage ? scheme.effects.breakage_damage_scale : 1.0);
         cp.bond_corrosion_b2 = scheme.creep.damage_b2;

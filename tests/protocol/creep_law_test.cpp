@@ -149,3 +149,101 @@ TEST_CASE("bond corrosion grows only above its load threshold", "[protocol][cree
         else CHECK(s.mean_damage > 0.0);
     }
 }
+
+// Secondary flow (docs/creep.md, eq. 1b): fixed spring, Kelvin capacity made negligible
+// (s_h = 1e-10 m) so what moves is the flow alone.
+static creep::RateProcessParams flow_params() {
+    auto p = base();  // A = 3e-9 m/s, beta = 6
+    p.slip_capacity_m = 1e-10;
+    p.critical_mobilisation = 0.9;
+    return p;
+}
+
+TEST_CASE("above the critical mobilisation a contact flows steadily past its capacity, down to f_c", "[protocol][creep]") {
+    const auto p = flow_params();
+    creep::RateProcessCreep law(p);
+    World w = two_spheres();
+    auto& c = w.contacts();
+    const double fn = c.normal_force[0];
+    c.shear_force[0] = Vec3(0, 0.95 * 0.4 * fn, 0);
+    // Steady: the slip over 10 ms is rate x time, and the same in two halves.
+    const double rate = 3e-9 * std::sinh(6.0 * 0.95);
+    law.advance(w, 0.005);
+    law.advance(w, 0.005);
+    const double slip = c.creep_slip[0];
+    CHECK(slip == Approx(rate * 0.01).epsilon(0.01));  // f falls by ~1 % of the way to f_c
+    CHECK(slip > 4.0 * law.equilibrium_slip(0.95));   // no capacity: far past s_eq(f)
+    CHECK(law.flow_slip(0.95, 0.95 * 0.4 * fn, 5e5, 0.01) == Approx(rate * 0.01));
+    // Long after, the flow has relaxed the spring to exactly f_c and stopped.
+    law.advance(w, 10.0);
+    CHECK(shear_of(w) == Approx(0.9 * 0.4 * fn).epsilon(1e-9));
+    const double s_end = c.creep_slip[0];
+    law.advance(w, 3600.0);
+    CHECK(c.creep_slip[0] == Approx(s_end).epsilon(1e-9));
+    // Below f_c there is no flow, only the bounded Kelvin slip; f_c > 1 switches it off.
+    CHECK(law.flow_slip(0.85, 0.85 * 0.4 * fn, 5e5, 3600.0) == 0.0);
+    auto off = p;
+    off.critical_mobilisation = 1.5;
+    CHECK(creep::RateProcessCreep(off).flow_slip(1.0, 0.4 * fn, 5e5, 3600.0) == 0.0);
+}
+
+TEST_CASE("a flowing contact whose wear outpaces its spring keeps flowing (slip-weakening instability)", "[protocol][creep]") {
+    // Flow stops at f_c mu (1 - D) Fn, but the slip wears the contact and lowers that
+    // limit, so it flows again: the wear per unit slip, mu Fn D_max / s_w, against the
+    // spring's ks. Weak wear (s_w = 1 mm): the contact stops near f_c. Strong wear
+    // (s_w = 10 nm, mu Fn D_max / s_w = 2e7 N/m > ks = 5e5 N/m): it flows until the
+    // asperities are worn out (D -> D_max) and holds only f_c mu (1 - D_max) Fn.
+    auto run = [](double s_w) {
+        auto p = flow_params();
+        p.wear_length_m = s_w;
+        p.wear_max = 0.5;
+        creep::RateProcessCreep law(p);
+        World w = two_spheres();
+        w.contacts().shear_force[0] = Vec3(0, 0.95 * 0.4 * w.contacts().normal_force[0], 0);
+        for (int k = 0; k < 200; ++k) law.advance(w, 1.0);
+        return w;
+    };
+    const World weak = run(1e-3), strong = run(1e-8);
+    const double fn = weak.contacts().normal_force[0];
+    CHECK(weak.contacts().asperity_wear[0] < 0.01);
+    CHECK(shear_of(weak) > 0.88 * 0.4 * fn);
+    CHECK(strong.contacts().asperity_wear[0] > 0.49);
+    CHECK(shear_of(strong) == Approx(0.9 * 0.4 * 0.5 * fn).epsilon(0.03));
+    CHECK(strong.contacts().creep_slip[0] > 5.0 * weak.contacts().creep_slip[0]);
+}
+
+TEST_CASE("an aged contact flows only above its aged threshold, and flowing erases the aging", "[protocol][creep]") {
+    auto p = flow_params();
+    p.aging_margin = 0.05;
+    creep::RateProcessCreep law(p);
+    World w = two_spheres();
+    auto& c = w.contacts();
+    const double fn = c.normal_force[0];
+    c.shear_force[0] = Vec3(0, 0.92 * 0.4 * fn, 0);
+    law.age(w);
+    CHECK(c.flow_threshold[0] == Approx(0.97));
+    law.advance(w, 60.0);
+    CHECK(shear_of(w) == Approx(0.92 * 0.4 * fn).epsilon(1e-12));  // above f_c, but aged: holds
+    c.shear_force[0] = Vec3(0, 0.98 * 0.4 * fn, 0);                 // the next stage's load
+    law.advance(w, 60.0);
+    CHECK(shear_of(w) == Approx(0.9 * 0.4 * fn).epsilon(1e-9));     // flowed down to f_c
+    CHECK(c.flow_threshold[0] == 0.0);
+    c.shear_force[0] = Vec3(0, 0.93 * 0.4 * fn, 0);                 // below the old threshold
+    law.advance(w, 60.0);
+    CHECK(shear_of(w) == Approx(0.9 * 0.4 * fn).epsilon(1e-9));     // flows on from f_c
+}
+
+TEST_CASE("flow slip wears the asperities over the flow wear length", "[protocol][creep]") {
+    auto p = flow_params();
+    p.wear_max = 0.5;
+    p.wear_length_m = 1.0;          // Kelvin slip would wear nothing
+    p.flow_wear_length_m = 1e-7;
+    creep::RateProcessCreep law(p);
+    World w = two_spheres();
+    auto& c = w.contacts();
+    c.shear_force[0] = Vec3(0, 0.95 * 0.4 * c.normal_force[0], 0);
+    law.advance(w, 0.01);
+    const double slip = c.creep_slip[0];
+    REQUIRE(slip > 0.0);
+    CHECK(c.asperity_wear[0] == Approx(0.5 * (1 - std::exp(-slip / 1e-7))));
+}
