@@ -5,6 +5,7 @@
 //
 // Balance: boundary_work + body_force_work
 //        = strain + bond_strain + kinetic + slip + damping + dashpot + bond_break + creep
+//          + breakage
 // (up to the O(dt) error of the central-difference integration).
 namespace triax {
 
@@ -19,18 +20,19 @@ struct EnergyLedger {
     double dashpot = 0.0;       // viscous normal dashpots
     double bond_break = 0.0;    // spring energy released when a bond breaks in tension
     double creep = 0.0;         // added by the time-dependent contact mechanism (engine/creep)
+    double breakage = 0.0;      // spring energy released by crushing contacts (engine/contact/grain_crushing.hpp)
     // Accumulated input.
     double boundary_work = 0.0; // walls, velocity-controlled/loaded clumps, applied particle forces
     double body_force_work = 0.0;  // gravity
 
     double stored() const { return strain + bond_strain + kinetic; }
-    double dissipated() const { return slip + damping + dashpot + bond_break + creep; }
+    double dissipated() const { return slip + damping + dashpot + bond_break + creep + breakage; }
     double input() const { return boundary_work + body_force_work; }
     // input - stored - dissipated; ~0 when the books close.
     double imbalance() const { return input() - stored() - dissipated(); }
 
     void reset_accumulated() {
-        slip = damping = dashpot = bond_break = creep = 0.0;
+        slip = damping = dashpot = bond_break = creep = breakage = 0.0;
         boundary_work = body_force_work = 0.0;
     }
 };

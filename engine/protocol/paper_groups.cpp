@@ -19,6 +19,9 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     s.gradation.kind = GradationSpec::Kind::RadiusRatio;
     s.gradation.r_min_m = 2.879e-3;
     s.gradation.radius_ratio = 2.0;
+    // Crushable grains (weak, slaking mudstone): the paper's contraction at 200 kPa
+    // (docs/protocol.md, "Finding (2)"); Weibull modulus and hardening keep the defaults.
+    s.micro.crushing_strength_pa = kPaperCrushingStrengthPa;
     // The paper's groups last about 10 days for 4 stages: 2.5 days per stage.
     s.loading.stage_durations_s = {2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0};
     return s;

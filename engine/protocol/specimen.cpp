@@ -11,6 +11,15 @@ namespace triax::protocol {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMembraneUpdateEvery = 10;
+
+GrainCrushingParams crushing_params(const TestScheme& s) {
+    GrainCrushingParams p;
+    p.strength_pa = s.micro.crushing_strength_pa;
+    p.reference_diameter_m = s.micro.crushing_reference_diameter_m;
+    p.weibull_modulus = s.micro.crushing_weibull_modulus;
+    p.hardening_ratio = s.micro.crushing_hardening_ratio;
+    return p;
+}
 }  // namespace
 
 Specimen::Specimen(const TestScheme& s) : scheme_(s) {
@@ -34,6 +43,18 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
         radii = draw_radii(g, solid_volume_, rng);
     }
     soil_count_ = static_cast<int>(radii.size());
+    if (s.micro.crushing_strength_pa > 0.0) {
+        // Each grain's Weibull survival quantile, from its own stream (the placement
+        // below draws the same numbers with crushing on or off).
+        const GrainCrushingParams cp = crushing_params(s);
+        std::mt19937_64 strength_rng(s.seed ^ 0x9E3779B97F4A7C15ull);
+        std::uniform_real_distribution<double> uq(0.0, 1.0);
+        crush_force_.resize(radii.size());
+        for (std::size_t q = 0; q < radii.size(); ++q) {
+            const double u = std::clamp(uq(strength_rng), 1e-12, 1.0 - 1e-12);
+            crush_force_[q] = grain_crushing_force(cp, 2.0 * radii[q], u);
+        }
+    }
     double rsum = 0.0, rmin = 1e9;
     for (double r : radii) { rsum += r; rmin = std::min(rmin, r); }
     r_mean_ = rsum / soil_count_;
@@ -109,7 +130,10 @@ Specimen::Specimen(const Specimen& o)
       soil_density_(o.soil_density_),
       soil_kn_(o.soil_kn_),
       r_mean_(o.r_mean_),
-      soil_count_(o.soil_count_) {}
+      soil_count_(o.soil_count_),
+      crush_force_(o.crush_force_),
+      crushing_on_(o.crushing_on_),
+      crushing_events_(o.crushing_events_) {}
 
 ContactLaw Specimen::soil_law(bool friction_on) const {
     ContactLaw l;
@@ -151,6 +175,8 @@ void Specimen::set_laws(bool friction_on) {
 
 void Specimen::install_test_laws() { set_laws(true); }
 
+void Specimen::enable_crushing() { crushing_on_ = !crush_force_.empty(); }
+
 long Specimen::install_soil_bonds() {
     const double factor = scheme_.effects.moisture_bonding ? creep::bond_strength_factor(scheme_.specimen.moisture_content) : 1.0;
     world_.bond_contacts(kSoilGroup, kSoilGroup, 1.0e-3 * r_mean_, 1.0, 1.0);
@@ -173,6 +199,12 @@ void Specimen::cycle(long n, double confining_pa) {
     for (long done = 0; done < n; done += kMembraneUpdateEvery) {
         membrane_->apply_pressure(world_, confining_pa);
         world_.cycle(std::min<long>(kMembraneUpdateEvery, n - done));
+        if (crushing_on_) {
+            const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_,
+                                                  soil_kn_, scheme_.micro.crushing_hardening_ratio);
+            crushing_events_ += c.crushing;
+            world_.energy().breakage += c.dissipated_j;
+        }
     }
 }
 

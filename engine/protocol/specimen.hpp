@@ -6,6 +6,7 @@
 #include <random>
 
 #include "engine/boundary/membrane.hpp"
+#include "engine/contact/grain_crushing.hpp"
 #include "engine/core/world.hpp"
 #include "engine/protocol/test_scheme.hpp"
 
@@ -33,12 +34,21 @@ public:
 
     // Switches to the test's contact laws (friction on; bond strength per moisture).
     void install_test_laws();
+    // Makes the grain contacts crushable (if micro.crushing_strength_pa > 0), on the
+    // consolidated fabric: the overlaps the radius expansion locks in are a packing
+    // device, not loads, and would crush into a denser specimen (docs/protocol.md).
+    void enable_crushing();
     // Installs soil-soil contact bonds on the current contacts (strength per contact
     // = strength (Pa) x pi r_min^2 of the pair, scaled by the moisture relation).
     long install_soil_bonds();
 
-    // Cycles n steps, refreshing the membrane follower forces every few steps.
+    // Cycles n steps, refreshing the membrane follower forces every few steps; crushable
+    // contacts are return-mapped after every such chunk.
     void cycle(long n, double confining_pa);
+    // Crushing events (contacts x passes) since enable_crushing().
+    long crushing_events() const { return crushing_events_; }
+    // Grain i's crushing force F_c (N); empty when crushing is off.
+    const std::vector<double>& crushing_forces() const { return crush_force_; }
 
     double top_z() const;
     double bottom_z() const;
@@ -66,6 +76,9 @@ private:
     double solid_volume_ = 0.0, mean_diameter_ = 0.0, soil_density_ = 0.0, soil_kn_ = 0.0;
     double r_mean_ = 0.0;
     int soil_count_ = 0;
+    std::vector<double> crush_force_;  // N, per soil grain (Weibull strength x d^2)
+    bool crushing_on_ = false;
+    long crushing_events_ = 0;
 };
 
 }  // namespace triax::protocol

@@ -53,6 +53,7 @@ struct EnergySample {
     double bond_j = 0.0;                 // stored in bond springs (current)
     double boundary_work_j = 0.0;        // done by platens and membrane pressure (cumulative)
     double creep_j = 0.0;                // dissipated by viscous slip (cumulative)
+    double breakage_j = 0.0;             // dissipated by crushing contacts (cumulative)
 };
 
 struct MeasurementSample {

@@ -35,6 +35,12 @@ void TestScheme::validate() const {
     require(micro.bond_shear_strength_pa >= 0.0, "micro.bond_shear_strength_pa", "must be >= 0");
     require(micro.membrane_particle_radius_m >= 0.0, "micro.membrane_particle_radius_m", "must be >= 0");
     require(micro.membrane_stiffness_n_m > 0.0, "micro.membrane_stiffness_n_m", "must be > 0");
+    require(micro.crushing_strength_pa >= 0.0, "micro.crushing_strength_pa", "must be >= 0 (0 = no crushing)");
+    require(micro.crushing_reference_diameter_m > 0.0, "micro.crushing_reference_diameter_m", "must be > 0");
+    require(micro.crushing_weibull_modulus >= 1.0 && micro.crushing_weibull_modulus <= 50.0,
+            "micro.crushing_weibull_modulus", "must be in [1, 50]");
+    require(micro.crushing_hardening_ratio > 0.0 && micro.crushing_hardening_ratio <= 10.0,
+            "micro.crushing_hardening_ratio", "must be in (0, 10]");
     require(creep.slip_rate_a_m_s >= 0.0, "creep.slip_rate_a_m_s", "must be >= 0");
     require(creep.slip_beta > 0.0, "creep.slip_beta", "must be > 0");
     require(creep.slip_hardening_length_m > 0.0, "creep.slip_hardening_length_m", "must be > 0");

@@ -38,6 +38,10 @@ struct GradationSpec {
 // Micro-parameters (Table 3). Table 3 gives 230.15 and 150.63 without units; we read them
 // as the normal and shear effective contact moduli in MPa (docs/parameters.md): the
 // linear normal stiffness of a pair is kn = pi * r_eff * E_n / 2 and ks likewise with E_s.
+// Crushing strength of the paper's grains (disintegrated carbonaceous mudstone), used by
+// the paper-group presets (docs/protocol.md, "Finding (2)").
+constexpr double kPaperCrushingStrengthPa = 0.6e6;
+
 struct MicroParameters {
     double friction = 0.4;                       // mu, particle-particle
     double wall_friction = 0.4;                  // rough platens (porous stones); also stops rigid drift
@@ -55,6 +59,17 @@ struct MicroParameters {
     double membrane_stiffness_n_m = 2.0e4;       // bond spring between membrane particles
     // Rolling resistance (off by default: paper uses the linear model).
     double rolling_friction = 0.0;               // mu_r, 0 = off
+    // Crushable grain contacts (engine/contact/grain_crushing.hpp, docs/parameters.md):
+    // a grain of diameter d crushes locally when a contact force exceeds
+    // F_c = sigma0 (d/d0)^(-3/m) (-ln u)^(1/m) d^2 (Weibull, u its survival quantile);
+    // beyond it the contact flattens plastically with hardening ratio h. 0 = off: the
+    // scheme default keeps unbreakable grains (with crushing, the reduced creep test's
+    // S = 0.6 stage accelerates, docs/protocol.md); the paper-group presets switch it on
+    // at kPaperCrushingStrengthPa.
+    double crushing_strength_pa = 0.0;           // sigma0 at d0
+    double crushing_reference_diameter_m = 0.01; // d0
+    double crushing_weibull_modulus = 5.0;       // m
+    double crushing_hardening_ratio = 0.02;      // h
 };
 
 // Time-dependent contact mechanism (docs/creep.md): rate-process delayed slip at the

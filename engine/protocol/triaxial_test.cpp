@@ -71,6 +71,7 @@ EnergySample energy_sample(const World& w, int phase, double time_s) {
     s.bond_j = e.bond_strain;
     s.boundary_work_j = e.boundary_work;
     s.creep_j = e.creep;
+    s.breakage_j = e.breakage;
     return s;
 }
 
@@ -138,6 +139,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             }
             // Bonds (suction/cementation, moisture dependent) form on the consolidated fabric.
             sp->install_soil_bonds();
+            sp->enable_crushing();
             return sp;
         };
         auto shear_specimen = consolidated(true);

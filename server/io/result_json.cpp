@@ -107,7 +107,8 @@ json energy_sample_to_json(const EnergySample& e) {
     const std::string phase = e.phase_index < 2 ? phases[e.phase_index] : "creep-" + std::to_string(e.phase_index - 1);
     return {{"phase", phase}, {"phase_index", e.phase_index}, {"step", e.step}, {"time_min", e.time_s * kMin},
             {"strain_J", e.strain_j}, {"slip_J", e.slip_j}, {"damping_J", e.damping_j}, {"kinetic_J", e.kinetic_j},
-            {"bond_J", e.bond_j}, {"boundary_work_J", e.boundary_work_j}, {"creep_J", e.creep_j}};
+            {"bond_J", e.bond_j}, {"boundary_work_J", e.boundary_work_j}, {"creep_J", e.creep_j},
+            {"breakage_J", e.breakage_j}};
 }
 
 json measurement_sample_to_json(const MeasurementSample& m) {
