@@ -5,7 +5,7 @@
 import { el, getJSON, postJSON, progressElement, axisLabel } from './api.js';
 import { Plot } from './plot.js';
 
-const ENERGY_KEYS = ['strain_J', 'slip_J', 'damping_J', 'kinetic_J', 'bond_J', 'boundary_work_J', 'creep_J'];
+const ENERGY_KEYS = ['strain_J', 'slip_J', 'damping_J', 'kinetic_J', 'bond_J', 'boundary_work_J', 'creep_J', 'breakage_J'];
 const MEASURE_KEYS = ['z_displacement_mm', 'porosity', 'coordination', 'rotation_rate_x_rad_s', 'rotation_rate_y_rad_s', 'rotation_rate_z_rad_s'];
 const SERIES_CSV = [
   ['stress-strain', 'q, p, σ1, σ3 vs axial strain'], ['volumetric', 'volumetric strain'],

@@ -68,10 +68,10 @@ json result_series_to_json(const TestResult& r, const std::string& series) {
                 rows.push_back({s.stage, p.time_s * kMin, p.axial_deformation_m * kMm, p.axial_strain * kPct});
     } else if (series == "energies") {
         columns = {"phase_index", "step", "time_min", "strain_J", "slip_J", "damping_J", "kinetic_J", "bond_J",
-                   "boundary_work_J", "creep_J"};
+                   "boundary_work_J", "creep_J", "breakage_J"};
         for (const auto& e : r.energies)
             rows.push_back({e.phase_index, e.step, e.time_s * kMin, e.strain_j, e.slip_j, e.damping_j, e.kinetic_j,
-                            e.bond_j, e.boundary_work_j, e.creep_j});
+                            e.bond_j, e.boundary_work_j, e.creep_j, e.breakage_j});
     } else if (series == "measurements") {
         columns = {"sphere", "step", "time_min", "z_displacement_mm", "rotation_rate_x_rad_s", "rotation_rate_y_rad_s",
                    "rotation_rate_z_rad_s", "porosity", "coordination"};

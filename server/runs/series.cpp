@@ -15,7 +15,7 @@ const std::vector<SeriesSpec>& series_specs() {
         {"energies",
          "energy",
          {"phase_index", "step", "time_min", "strain_J", "slip_J", "damping_J", "kinetic_J", "bond_J",
-          "boundary_work_J", "creep_J"}},
+          "boundary_work_J", "creep_J", "breakage_J"}},
         {"measurements",
          "measurement",
          {"sphere", "step", "time_min", "z_displacement_mm", "rotation_rate_x_rad_s", "rotation_rate_y_rad_s",
