@@ -9,7 +9,6 @@
 #include "engine/creep/rate_process_creep.hpp"
 #include "engine/creep/time_schedule.hpp"
 #include "engine/measure/measurement_sphere.hpp"
-#include "engine/protocol/servo_gain.hpp"
 #include "engine/protocol/specimen.hpp"
 #include "engine/protocol/stress_level.hpp"
 
@@ -238,13 +237,10 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         // read as creep (1 % of sigma1 is a few % of a low stage's instant deformation).
         auto hold_axial = [&](double sigma1_target, long min_cycles, long max_cycles) {
             long n = 0;
-            AdaptiveServoGain gain;
             for (; n < max_cycles; n += kChunk) {
                 const double area = sp.volume() / sp.height();
                 auto& top = w.plane_wall(sp.top_wall());
-                const double measured = top.normal_stress(area);
-                const double boost = gain.update(sigma1_target - measured);
-                top.velocity = Vec3(0, 0, -servo_velocity(sigma1_target, measured, area, k_skel / boost, dt, v_max));
+                top.velocity = Vec3(0, 0, -servo_velocity(sigma1_target, top.normal_stress(area), area, k_skel, dt, v_max));
                 sp.cycle(kChunk, sigma3);
                 const auto& omega = w.particles().angular_velocity;
                 for (int i = 0; i < sp.soil_count(); ++i) rotation[i] += omega[i] * (kChunk * dt);
