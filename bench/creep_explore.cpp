@@ -2,7 +2,7 @@
 // with parameters overridden on the command line and prints each stage's summary.
 // Usage: creep_explore [key=value ...]  keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax hours seed
 //        dmm (specimen diameter mm) rmin_mm ratio first growth cap threads s3 verbose
-//        gain (1 adaptive servo gain, 0 base) drift (1 the holds' drift criterion, 0 off)
+//        gain (1 adaptive servo gain, 0 base: default) drift (1 the holds' drift criterion, 0 off)
 //        qs (1 platen speed capped at the shear test's, 0 off)
 #include <cstdio>
 #include <cstdlib>

@@ -3,11 +3,11 @@
 // specimen with the preset's DEM gradation (docs/parameters.md, "Paper-group gradation").
 // Reports particle counts, wall time per phase and in total, and the summary.
 // Usage: paper_group [A|B|C|D|E] [threads] [out.json|-] [--shear-only] [--reduced] [--stage-hours H]
-//                    [--base-gain] [--no-drift] [--no-qs-cap] [--adaptive-loading]
+//                    [--adaptive] [--no-drift] [--no-qs-cap] [--adaptive-loading]
 // (--reduced: the 50 x 100 mm specimen of the protocol tests, same sigma3, for comparison;
 //  --stage-hours H: every creep stage lasts H hours instead of the preset's 2.5 days, the
 //  short benchmark of docs/engine.md, "Performance of the full-size paper group";
-//  --base-gain / --no-drift: the creep holds' fixed servo gain / without the drift criterion,
+//  --adaptive / --no-drift: the creep holds' adaptive servo gain / without the drift criterion,
 //  engine/protocol/creep_hold.hpp, for A/B comparisons)
 // Run with OMP_WAIT_POLICY=passive on a shared machine (spinning threads steal the core).
 #include <chrono>
@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
     std::vector<triax::protocol::HoldRecord> holds;
     hold.log = &holds;
     for (int k = 1; k < argc; ++k) {
-        if (std::strcmp(argv[k], "--base-gain") == 0) hold.adaptive_gain = false;
+        if (std::strcmp(argv[k], "--adaptive") == 0) hold.adaptive_gain = true;
         if (std::strcmp(argv[k], "--no-drift") == 0) hold.drift_criterion = false;
         if (std::strcmp(argv[k], "--no-qs-cap") == 0) hold.quasi_static_speed = false;
         if (std::strcmp(argv[k], "--adaptive-loading") == 0) hold.adaptive_loading = true;
