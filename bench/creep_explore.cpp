@@ -2,6 +2,8 @@
 // with parameters overridden on the command line and prints each stage's summary.
 // Usage: creep_explore [key=value ...]  keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax hours seed
 //        dmm (specimen diameter mm) rmin_mm ratio first growth cap threads s3 verbose
+//        gain (1 adaptive servo gain, 0 base: default) drift (1 the holds' drift criterion, 0 off)
+//        qs (1 platen speed capped at the shear test's, 0 off)
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -24,6 +26,7 @@ int main(int argc, char** argv) {
     s.seed = 11;
     double sigma3_kpa = 100.0;
     bool verbose = false;
+    HoldOptions hold;
     for (int a = 1; a < argc; ++a) {
         const std::string arg = argv[a];
         const auto eq = arg.find('=');
@@ -54,6 +57,11 @@ int main(int argc, char** argv) {
         else if (k == "threads") s.threads = static_cast<int>(v);
         else if (k == "s3") sigma3_kpa = v;
         else if (k == "verbose") verbose = v != 0;
+        else if (k == "gain") hold.adaptive_gain = v != 0;
+        else if (k == "drift") hold.drift_criterion = v != 0;
+        else if (k == "qs") hold.quasi_static_speed = v != 0;
+        else if (k == "noov") hold.no_overshoot = v != 0;
+        else if (k == "adload") hold.adaptive_loading = v != 0;
         else { std::fprintf(stderr, "unknown key %s\n", k.c_str()); return 2; }
     }
     s.loading.confining_pressure_pa = sigma3_kpa * 1e3;
@@ -66,8 +74,9 @@ int main(int argc, char** argv) {
         }
     } trace;
     trace.on = verbose;
-    const auto r = run_triaxial_test(s, trace, Phase::Creep);
-    std::printf("q_f %.1f kPa, grains?, relaxations %ld, wall %.1f s\n", r.q_failure_pa / 1e3, r.creep_relaxations, r.wall_time_s);
+    const auto r = run_triaxial_test(s, trace, Phase::Creep, hold);
+    std::printf("q_f %.1f kPa, grains %d, relaxations %ld, total steps %ld, wall %.1f s\n", r.q_failure_pa / 1e3,
+                r.particle_count, r.creep_relaxations, r.total_steps, r.wall_time_s);
     for (const auto& st : r.creep_stages) {
         const double creep = st.final_deformation_m - st.instant_deformation_m;
         std::printf("S=%.2f instant %.4f mm creep %.4f mm elastic %.3f first30 %.2f accel %d conv %d  curve:", st.stress_level,

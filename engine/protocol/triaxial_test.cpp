@@ -9,6 +9,7 @@
 #include "engine/creep/rate_process_creep.hpp"
 #include "engine/creep/time_schedule.hpp"
 #include "engine/measure/measurement_sphere.hpp"
+#include "engine/protocol/creep_hold.hpp"
 #include "engine/protocol/specimen.hpp"
 #include "engine/protocol/stress_level.hpp"
 
@@ -19,7 +20,6 @@ namespace {
 constexpr long kChunk = 50;                 // cycles between servo / record updates
 constexpr double kInertialTarget = 5.0e-4;  // quasi-static shear: I well under 1e-3
 constexpr double kStressTolerance = 0.01;   // relative, servo targets
-constexpr double kCreepStressTolerance = 0.002;  // relative, creep holds (readings at held stress)
 
 // The run's clock and the progress line: weights per phase of the whole run.
 class Progress {
@@ -83,6 +83,10 @@ TestResult run_triaxial_test(const TestScheme& scheme) {
 }
 
 TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase last) {
+    return run_triaxial_test(scheme, obs, last, HoldOptions{});
+}
+
+TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase last, const HoldOptions& hold_options) {
     scheme.validate();
     TestResult res;
     res.scheme_name = scheme.name;
@@ -155,6 +159,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         // ---- strain-controlled shear ------------------------------------------
         obs.stage_changed("shear", 0, 0.0, 0.0);
         double q_peak = 0.0, eps_peak = 0.0;
+        double shear_speed = 0.0;  // m/s, the quasi-static platen speed of the shear test
         const double eps_max = scheme.loading.max_axial_strain;
         {
         Specimen& sp = *spp;
@@ -173,6 +178,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         res.inertial_density_kg_m3 = rho_inertial;
         const double rate = kInertialTarget * std::sqrt(p0 / rho_inertial) / sp.mean_diameter();
         const double seating = scheme.effects.seating_error ? scheme.effects.seating_displacement_m : 0.0;
+        shear_speed = rate * h0;
         w.plane_wall(sp.top_wall()).velocity = Vec3(0, 0, -rate * h0);
         const long record_every = std::max<long>(kChunk, static_cast<long>(0.002 / (rate * dt)) / kChunk * kChunk);
         long since_record = 0;
@@ -233,24 +239,9 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         // physical time between samples it is the rotation rate in physical time (the
         // DEM spin at an equilibrium snapshot is only residual noise).
         std::vector<Vec3> rotation(sp.soil_count(), Vec3::Zero());
-        // Creep readings are deformations at a held stress: a loose servo tolerance would
-        // read as creep (1 % of sigma1 is a few % of a low stage's instant deformation).
-        auto hold_axial = [&](double sigma1_target, long min_cycles, long max_cycles) {
-            long n = 0;
-            for (; n < max_cycles; n += kChunk) {
-                const double area = sp.volume() / sp.height();
-                auto& top = w.plane_wall(sp.top_wall());
-                top.velocity = Vec3(0, 0, -servo_velocity(sigma1_target, top.normal_stress(area), area, k_skel, dt, v_max));
-                sp.cycle(kChunk, sigma3);
-                const auto& omega = w.particles().angular_velocity;
-                for (int i = 0; i < sp.soil_count(); ++i) rotation[i] += omega[i] * (kChunk * dt);
-                if (n >= min_cycles && std::abs(sp.top_stress() - sigma1_target) < kCreepStressTolerance * sigma1_target &&
-                    w.unbalanced_force_ratio() < scheme.loading.consolidation_tolerance * 2.0)
-                    break;
-            }
-            w.plane_wall(sp.top_wall()).velocity.setZero();
-            return n;
-        };
+        // Creep readings are deformations at a held stress and in equilibrium (the reading
+        // convention: engine/protocol/creep_hold.hpp).
+        CreepHold holder(sp, sigma3, k_skel, v_max, shear_speed, scheme.loading.consolidation_tolerance, hold_options);
 
         // ---- multi-stage creep in physical time --------------------------------
         creep::RateProcessParams cp;
@@ -332,7 +323,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             // The contacts have aged under the previous load (the consolidation, or the
             // previous stage); then the loading step: the instantaneous response.
             creep_law.age(w);
-            hold_axial(sigma3 + q_target, 500, 200000);
+            holder.hold(sigma3 + q_target, 500, 200000, &rotation, true);
             auto record = [&](double t_stage) {
                 const double d = z_top0 - sp.top_z();
                 CreepPoint cpnt{t_total + t_stage, d, d / hc};
@@ -358,7 +349,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                                                              scheme.creep.max_relaxation_per_increment; ++halving)
                         h *= 0.5;
                     creep_law.advance(w, h);
-                    hold_axial(sigma3 + q_target, 100, 20000);
+                    holder.hold(sigma3 + q_target, 100, 20000, &rotation, false);
                     ++res.creep_relaxations;
                     left = h < left ? left - h : 0.0;
                 }

@@ -33,20 +33,28 @@ World make_world(const std::vector<test::SphereSpec>& spheres, const std::vector
     return w;
 }
 
-}  // namespace
-
-TEST_CASE("1 and 2 threads give bitwise identical trajectories", "[engine][parallel]") {
+// The same lattice world built twice, on 1 and on 2 threads (the parallel cases' set-up).
+struct OneAndTwoThreads {
+    World one, two;
+    std::size_t n = 0;
+};
+OneAndTwoThreads one_and_two_threads() {
     const auto spheres = test::lattice_spheres(kSide, kRmin, kRmax, 7);
     std::vector<int> order(spheres.size());
     std::iota(order.begin(), order.end(), 0);
-    World one = make_world(spheres, order, 1);
-    World two = make_world(spheres, order, 2);
+    return {make_world(spheres, order, 1), make_world(spheres, order, 2), spheres.size()};
+}
+
+}  // namespace
+
+TEST_CASE("1 and 2 threads give bitwise identical trajectories", "[engine][parallel]") {
+    auto [one, two, n] = one_and_two_threads();
     one.cycle(1500);
     two.cycle(1500);
     REQUIRE(one.active_contact_count() > 1000);
     REQUIRE(one.contacts().size() >= 4096);  // the contact loop really ran in parallel
     long differing = 0;
-    for (std::size_t p = 0; p < spheres.size(); ++p) {
+    for (std::size_t p = 0; p < n; ++p) {
         differing += one.particles().position[p] != two.particles().position[p];
         differing += one.particles().angular_velocity[p] != two.particles().angular_velocity[p];
     }
@@ -59,18 +67,14 @@ TEST_CASE("1 and 2 threads give bitwise identical trajectories", "[engine][paral
 // neighbour rebuild and at the end of each cycle() call: many short calls (as the
 // protocol's servo chunks make) must give the same trajectory as one long call.
 TEST_CASE("2 threads in short cycle() calls equal 1 thread in one call", "[engine][parallel]") {
-    const auto spheres = test::lattice_spheres(kSide, kRmin, kRmax, 7);
-    std::vector<int> order(spheres.size());
-    std::iota(order.begin(), order.end(), 0);
-    World one = make_world(spheres, order, 1);
-    World two = make_world(spheres, order, 2);
+    auto [one, two, n] = one_and_two_threads();
     one.cycle(600);
     for (int k = 0; k < 60; ++k) two.cycle(k % 2 ? 7 : 13);
     REQUIRE(two.step() == 600);
     REQUIRE(one.neighbor_rebuild_count() > 2);
     CHECK(one.neighbor_rebuild_count() == two.neighbor_rebuild_count());
     long differing = 0;
-    for (std::size_t p = 0; p < spheres.size(); ++p) {
+    for (std::size_t p = 0; p < n; ++p) {
         differing += one.particles().position[p] != two.particles().position[p];
         differing += one.particles().velocity[p] != two.particles().velocity[p];
     }
