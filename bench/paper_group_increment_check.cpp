@@ -2,12 +2,14 @@
 // twice, the second with every physical-time increment halved (first increment / 2,
 // growth sqrt(growth), cap / 2), and reports the largest difference between the two
 // translated creep curves relative to each stage's creep. Stated tolerance: 10 % of the
-// stage's creep deformation (docs/creep.md). Usage: paper_group_increment_check [threads]
+// stage's creep deformation (docs/creep.md).
+// Usage: paper_group_increment_check [threads] [key=value ...]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
 
+#include "bench/reduced_creep_args.hpp"
 #include "engine/protocol/triaxial_test.hpp"
 
 using namespace triax::protocol;
@@ -25,13 +27,23 @@ double at(const CreepStageResult& s, double t) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    TestScheme s;
-    s.specimen.diameter_m = 0.05;
-    s.specimen.height_m = 0.1;
-    s.gradation.r_min_m = 2.5e-3;
-    s.gradation.radius_ratio = 3.0;
-    s.loading.stage_durations_s = {86400.0, 86400.0, 86400.0, 86400.0};
-    if (argc > 1) s.threads = std::stoi(argv[1]);
+    // The reduced creep specimen of the tests with the scheme's default increments and
+    // 1-day stages; a leading bare number is the thread count, then key=value overrides
+    // (bench/reduced_creep_args.hpp, e.g. crush=1 t0=...).
+    auto args = triax::bench::reduced_creep_defaults();
+    const TestScheme plain;
+    args.scheme.creep.first_increment_s = plain.creep.first_increment_s;
+    args.scheme.creep.increment_growth = plain.creep.increment_growth;
+    args.scheme.creep.max_increment_s = plain.creep.max_increment_s;
+    args.scheme.loading.max_axial_strain = plain.loading.max_axial_strain;
+    args.hours = 24.0;
+    int first = 1;
+    if (argc > 1 && std::string(argv[1]).find('=') == std::string::npos) {
+        args.scheme.threads = std::stoi(argv[1]);
+        first = 2;
+    }
+    if (!triax::bench::parse_creep_args(args, argc, argv, first)) return 2;
+    const TestScheme s = args.scheme;
     TestScheme h = s;
     h.creep.first_increment_s /= 2.0;
     h.creep.increment_growth = std::sqrt(h.creep.increment_growth);

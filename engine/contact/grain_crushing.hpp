@@ -100,4 +100,80 @@ inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, in
     return sum;
 }
 
+// ---- Static fatigue: delayed, time-dependent crushing (creep stages only) -------------
+// A grain under sustained load breaks after a time, not at once: subcritical crack growth
+// (stress corrosion; Charles' law v = v0 (K/K_c)^n, n ~ 10-40 for rock) lets a crack grow
+// at K < K_c until it reaches the critical length (Oldecop & Alonso 2007, Geotechnique
+// 57(3): delayed breakage is how rockfill creeps; McDowell & Khan 2003, Granular Matter 5:
+// DEM agglomerates with time-dependent strength). Per grain a fatigue damage D in [0, D_max]
+// lowers the crushing force to F_c (1 - D), and
+//     dD/dt = (1/t0) (r / (1 - D))^n,      r = min(1, F_max / F_c)
+// (F_max the grain's largest grain-grain contact force, F_c its intact crushing force:
+// the crack's K grows as F / strength). The rate runs away as D grows (finite-time
+// failure): at fixed r the grain reaches D = 1 after t_f = t0 r^-n / (n + 1)
+// (the static-fatigue law t_f ~ (F/F_c)^-n). Exact update over dt at fixed force:
+//     (1 - D')^(n+1) = (1 - D)^(n+1) - (n + 1) (dt / t0) r^n,      D' <= D_max.
+// r is capped at 1: a yielded (flattening) contact is at its grain's strength; the
+// hardening term of the yield force is the larger area of the crushed zone, not a higher
+// stress in the grain. D_max < 1: the fragments of a failed grain still carry load (the
+// return map with the flattened contact's hardening then takes over).
+constexpr double kFatigueDamageMax = 0.9;
+
+struct GrainFatigueParams {
+    double time_s = 0.0;     // t0: failure time of a grain loaded to its strength x (n + 1); 0 = off
+    double exponent = 20.0;  // n: static-fatigue (Charles) exponent
+    bool enabled() const { return time_s > 0.0; }
+};
+
+// Damage after dt at fixed force ratio r (exact, see above).
+inline double fatigue_damage_update(double damage, double r, double dt, const GrainFatigueParams& p) {
+    if (!p.enabled() || r <= 0.0 || dt <= 0.0) return damage;
+    const double n = p.exponent;
+    const double rate = (n + 1.0) * (dt / p.time_s) * std::pow(std::min(r, 1.0), n);
+    const double rest = std::pow(1.0 - damage, n + 1.0) - rate;
+    if (rest <= 0.0) return kFatigueDamageMax;
+    return std::min(kFatigueDamageMax, 1.0 - std::pow(rest, 1.0 / (n + 1.0)));
+}
+
+// Largest grain-grain contact force (N, compression) on each grain [0, n_grains).
+inline void grain_peak_forces(const ContactStore& c, int n_grains, std::vector<double>& f_max) {
+    f_max.assign(static_cast<std::size_t>(n_grains), 0.0);
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        if (!c.active[k]) continue;
+        const int i = c.i[k], j = c.j[k];
+        if (i >= n_grains || j >= n_grains) continue;
+        const double f = c.normal_force[k];
+        f_max[i] = std::max(f_max[i], f);
+        f_max[j] = std::max(f_max[j], f);
+    }
+}
+
+struct FatigueSummary {
+    double max_increment = 0.0;  // largest growth of D over the grains
+    long grains_damaged = 0;     // grains whose D grew
+};
+
+// Advances every grain's fatigue damage over dt at its present peak force and writes the
+// effective crushing forces F_c (1 - D) that the return map then uses. With apply = false
+// it only reports (a dry run for the increment splitting).
+inline FatigueSummary fatigue_grains(const ContactStore& c, int n_grains, const std::vector<double>& crush_force,
+                                     std::vector<double>& damage, std::vector<double>& effective_force, double dt,
+                                     const GrainFatigueParams& p, bool apply = true) {
+    FatigueSummary sum;
+    if (!p.enabled() || crush_force.empty()) return sum;
+    std::vector<double> f_max;
+    grain_peak_forces(c, n_grains, f_max);
+    for (int i = 0; i < n_grains; ++i) {
+        const double d_new = fatigue_damage_update(damage[i], f_max[i] / crush_force[i], dt, p);
+        const double inc = d_new - damage[i];
+        if (inc <= 0.0) continue;
+        sum.max_increment = std::max(sum.max_increment, inc);
+        ++sum.grains_damaged;
+        if (!apply) continue;
+        damage[i] = d_new;
+        effective_force[i] = crush_force[i] * (1.0 - d_new);
+    }
+    return sum;
+}
+
 }  // namespace triax

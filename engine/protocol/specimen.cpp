@@ -132,6 +132,8 @@ Specimen::Specimen(const Specimen& o)
       r_mean_(o.r_mean_),
       soil_count_(o.soil_count_),
       crush_force_(o.crush_force_),
+      fatigue_damage_(o.fatigue_damage_),
+      crush_force_now_(o.crush_force_now_),
       crushing_on_(o.crushing_on_),
       crushing_events_(o.crushing_events_) {}
 
@@ -175,7 +177,16 @@ void Specimen::set_laws(bool friction_on) {
 
 void Specimen::install_test_laws() { set_laws(true); }
 
-void Specimen::enable_crushing() { crushing_on_ = !crush_force_.empty(); }
+void Specimen::enable_crushing() {
+    crushing_on_ = !crush_force_.empty();
+    fatigue_damage_.assign(crush_force_.size(), 0.0);
+    crush_force_now_ = crush_force_;
+}
+
+FatigueSummary Specimen::advance_fatigue(double dt, const GrainFatigueParams& p, bool apply) {
+    if (!crushing_on_) return {};
+    return fatigue_grains(world_.contacts(), soil_count_, crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
+}
 
 long Specimen::install_soil_bonds() {
     const double factor = scheme_.effects.moisture_bonding ? creep::bond_strength_factor(scheme_.specimen.moisture_content) : 1.0;
@@ -200,7 +211,7 @@ void Specimen::cycle(long n, double confining_pa) {
         membrane_->apply_pressure(world_, confining_pa);
         world_.cycle(std::min<long>(kMembraneUpdateEvery, n - done));
         if (crushing_on_) {
-            const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_,
+            const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_now_,
                                                   soil_kn_, scheme_.micro.crushing_hardening_ratio);
             crushing_events_ += c.crushing;
             world_.energy().breakage += c.dissipated_j;

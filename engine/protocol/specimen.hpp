@@ -49,6 +49,12 @@ public:
     long crushing_events() const { return crushing_events_; }
     // Grain i's crushing force F_c (N); empty when crushing is off.
     const std::vector<double>& crushing_forces() const { return crush_force_; }
+    // Static fatigue of crushable grains over a creep increment dt (grain_crushing.hpp):
+    // grows each grain's damage at its present peak contact force and lowers its crushing
+    // force to F_c (1 - D) for the return map of the next cycles. apply = false: dry run.
+    FatigueSummary advance_fatigue(double dt, const GrainFatigueParams& p, bool apply = true);
+    // Grain i's fatigue damage D (empty when crushing is off).
+    const std::vector<double>& fatigue_damage() const { return fatigue_damage_; }
 
     double top_z() const;
     double bottom_z() const;
@@ -77,6 +83,8 @@ private:
     double r_mean_ = 0.0;
     int soil_count_ = 0;
     std::vector<double> crush_force_;  // N, per soil grain (Weibull strength x d^2)
+    std::vector<double> fatigue_damage_;      // D per soil grain (static fatigue)
+    std::vector<double> crush_force_now_;     // N, F_c (1 - D): what the return map uses
     bool crushing_on_ = false;
     long crushing_events_ = 0;
 };

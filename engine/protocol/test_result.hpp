@@ -39,6 +39,7 @@ struct CreepStageResult {
     double elastic_share = 0.0;          // instant / final
     bool converged = false;              // creep rate decays (not accelerating) at the end
     bool accelerating = false;           // tertiary creep detected late in the stage
+    int failed_grains = 0;               // grains broken by static fatigue (D = D_max) by the stage end, cumulative
 };
 
 // One sample of the energy ledger (cumulative, J).

@@ -53,6 +53,9 @@ void TestScheme::validate() const {
     require(creep.flow_wear_length_m >= 0.0, "creep.flow_wear_length_m", "must be >= 0");
     require(creep.wear_max >= 0.0 && creep.wear_max < 1.0, "creep.wear_max", "must be in [0, 1)");
     require(creep.damage_rate_b1_per_s >= 0.0, "creep.damage_rate_b1_per_s", "must be >= 0");
+    require(creep.grain_fatigue_time_s >= 0.0, "creep.grain_fatigue_time_s", "must be >= 0 (0 = no static fatigue)");
+    require(creep.grain_fatigue_exponent >= 1.0 && creep.grain_fatigue_exponent <= 100.0, "creep.grain_fatigue_exponent",
+            "must be in [1, 100]");
     require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,
             "creep.max_relaxation_per_increment", "must be in (0, 1]");
     require(creep.first_increment_s > 0.0, "creep.first_increment_s", "must be > 0");

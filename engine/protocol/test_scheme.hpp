@@ -104,6 +104,11 @@ struct CreepLawParameters {
     double damage_rate_b1_per_s = 1.0e-9;
     double damage_b2 = 10.0;
     double damage_threshold = 0.9;
+    // Static fatigue of crushable grains (delayed crushing; grain_crushing.hpp,
+    // docs/creep.md): dD/dt = (1/t0) (F_max / (F_c (1 - D)))^n per grain, crushing force
+    // F_c (1 - D). Acts in creep stages only, and only when micro.crushing_strength_pa > 0.
+    double grain_fatigue_time_s = 0.0;     // t0; 0 = off
+    double grain_fatigue_exponent = 20.0;  // n (Charles' law exponent, rock 10-40)
     // Physical-time scheduler.
     double first_increment_s = 1.0;        // first time increment of a creep stage
     double increment_growth = 1.25;        // geometric growth of increments

@@ -262,6 +262,9 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         cp.bond_corrosion_threshold = scheme.creep.damage_threshold;
         cp.soil_group = kSoilGroup;
         creep::RateProcessCreep creep_law(cp);
+        GrainFatigueParams fatigue;  // static fatigue of crushable grains (creep stages only)
+        fatigue.time_s = vs > 0.0 ? scheme.creep.grain_fatigue_time_s / vs : 0.0;  // creep effect off: none
+        fatigue.exponent = scheme.creep.grain_fatigue_exponent;
 
         const double hc = sp.height();  // reference height of the creep test
         const double z_top0 = sp.top_z();
@@ -345,10 +348,14 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 double left = dts[n];
                 while (left > 0.0) {
                     double h = left;
-                    for (int halving = 0; halving < 8 && creep_law.trial(w, h).relaxation >
-                                                             scheme.creep.max_relaxation_per_increment; ++halving)
+                    // ... or would fatigue a grain by more than a tenth of its strength.
+                    for (int halving = 0; halving < 8 && (creep_law.trial(w, h).relaxation >
+                                                              scheme.creep.max_relaxation_per_increment ||
+                                                          sp.advance_fatigue(h, fatigue, false).max_increment > 0.1);
+                         ++halving)
                         h *= 0.5;
                     creep_law.advance(w, h);
+                    sp.advance_fatigue(h, fatigue);
                     holder.hold(sigma3 + q_target, 100, 20000, &rotation, false);
                     ++res.creep_relaxations;
                     left = h < left ? left - h : 0.0;
@@ -385,6 +392,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             const double late = at(T) - at(0.8 * T), before = at(0.8 * T) - at(0.6 * T);
             st.accelerating = failed || (late > 1.3 * before && late > 0.05 * std::max(creep_part, 1e-12));
             st.converged = !st.accelerating && (creep_part <= 0.0 || late < 0.1 * creep_part);
+            for (double d : sp.fatigue_damage()) st.failed_grains += d >= kFatigueDamageMax ? 1 : 0;
             res.creep_stages.push_back(st);
             t_total += t;
             if (failed) break;

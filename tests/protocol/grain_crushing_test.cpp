@@ -7,6 +7,7 @@
 #include <random>
 
 #include "engine/contact/grain_crushing.hpp"
+#include "engine/protocol/test_scheme.hpp"
 
 using namespace triax;
 
@@ -97,4 +98,97 @@ TEST_CASE("crushing contact: plastic overlap stays after unloading (lost volume)
     // Contacts with a non-grain particle (index >= n_grains) are never crushed.
     pa.position[1].z() = 2 * r - 5.0e-4;
     CHECK(crush_contacts(c, pa, 1, f_c, kn, h).crushing == 0);
+}
+
+// ---- static fatigue (delayed crushing) ------------------------------------------------
+
+TEST_CASE("static fatigue: exact update at fixed force, finite life t0 r^-n / (n + 1)", "[crushing][fatigue]") {
+    GrainFatigueParams p;
+    p.time_s = 3600.0;
+    p.exponent = 20.0;
+    const double r = 0.9;
+    const double life = p.time_s * std::pow(r, -p.exponent) / (p.exponent + 1.0);
+    // Early rate: dD/dt = (1/t0) r^n at D = 0.
+    const double dt_small = 1e-4 * life;
+    CHECK(fatigue_damage_update(0.0, r, dt_small, p) / dt_small == Approx(std::pow(r, p.exponent) / p.time_s).epsilon(1e-3));
+    // Exact at fixed force: one step and a hundred steps agree.
+    double d = 0.0;
+    for (int k = 0; k < 100; ++k) d = fatigue_damage_update(d, r, 0.005 * life, p);
+    CHECK(d == Approx(fatigue_damage_update(0.0, r, 0.5 * life, p)).epsilon(1e-9));
+    // Closed form: 1 - (1 - D)^(n+1) = t / life.
+    CHECK(1.0 - std::pow(1.0 - d, p.exponent + 1.0) == Approx(0.5).epsilon(1e-9));
+    // Self-accelerating (the crack's K grows as the strength falls): the damage of the
+    // second half of the life is far more than that of the first half.
+    const double d_half = d;
+    const double d_95 = fatigue_damage_update(d_half, r, 0.45 * life, p);
+    CHECK(d_95 - d_half > 2.0 * d_half);
+    // Failure at the life: capped at D_max (the fragments still carry load).
+    CHECK(fatigue_damage_update(0.0, r, 0.999 * life, p) < kFatigueDamageMax);
+    CHECK(fatigue_damage_update(0.0, r, 1.001 * life, p) == kFatigueDamageMax);
+    // Static-fatigue law: life ~ (F/F_c)^-n, so a grain at 0.8 of its strength lives
+    // (9/8)^20 ~ 10.5 times longer than one at 0.9.
+    const double life08 = p.time_s * std::pow(0.8, -p.exponent) / (p.exponent + 1.0);
+    CHECK(fatigue_damage_update(0.0, 0.8, 0.9 * life08, p) < kFatigueDamageMax);
+    CHECK(fatigue_damage_update(0.0, 0.8, 0.9 * life, p) < 0.05);
+    CHECK(life08 / life == Approx(std::pow(9.0 / 8.0, 20.0)));
+    // Loads above the strength fatigue at the rate of a grain at its strength (r capped).
+    CHECK(fatigue_damage_update(0.0, 1.5, 10.0, p) == Approx(fatigue_damage_update(0.0, 1.0, 10.0, p)));
+    // Off (t0 = 0): no damage.
+    GrainFatigueParams off;
+    CHECK(fatigue_damage_update(0.2, 0.99, 1e9, off) == 0.2);
+}
+
+TEST_CASE("static fatigue of grains: peak contact force, weaker grain first, then delayed crushing", "[crushing][fatigue]") {
+    ParticleArrays pa;
+    const double r = 0.005, kn = 1.0e6, h = 0.02;
+    pa.add(Vec3(0, 0, 0), r, 2600.0, 0);
+    pa.add(Vec3(0, 0, 2 * r - 25.0e-6), r, 2600.0, 0);  // 25 um overlap: 25 N
+    pa.add(Vec3(0, 2 * r, 0), r, 2600.0, 1);              // not a grain (membrane)
+    ContactStore c;
+    c.resize(2);
+    for (int k = 0; k < 2; ++k) c.reset_history(k);
+    c.i[0] = 0; c.j[0] = 1; c.active[0] = 1; c.normal_force[0] = 25.0;
+    c.i[1] = 0; c.j[1] = 2; c.active[1] = 1; c.normal_force[1] = 90.0;  // grain-membrane: ignored
+    const std::vector<double> f_c = {100.0, 30.0};
+    std::vector<double> damage(2, 0.0), f_now = f_c;
+    GrainFatigueParams p;
+    p.time_s = 600.0;
+    p.exponent = 10.0;
+    // Below both strengths: no crushing now.
+    CHECK(crush_contacts(c, pa, 2, f_now, kn, h).crushing == 0);
+    // The dry run reports and leaves the state alone.
+    const FatigueSummary dry = fatigue_grains(c, 2, f_c, damage, f_now, 60.0, p, false);
+    CHECK(dry.grains_damaged == 2);
+    CHECK(damage[0] == 0.0);
+    CHECK(f_now[1] == 30.0);
+    // Grain 1 at 25/30 of its strength fatigues, grain 0 at 25/100 (not 90/100: the
+    // membrane contact does not count) hardly.
+    fatigue_grains(c, 2, f_c, damage, f_now, 60.0, p);
+    CHECK(damage[1] == Approx(fatigue_damage_update(0.0, 25.0 / 30.0, 60.0, p)));
+    CHECK(damage[0] == Approx(fatigue_damage_update(0.0, 0.25, 60.0, p)));
+    CHECK(damage[0] < 1e-4 * damage[1]);  // (0.25 / 0.83)^10 ~ 6e-6
+    CHECK(f_now[1] == Approx(30.0 * (1.0 - damage[1])));
+    // Held long enough (past grain 1's life), the contact crushes at the unchanged load:
+    // delayed breakage, the creep of a crushable skeleton.
+    const double life = p.time_s * std::pow(25.0 / 30.0, -p.exponent) / (p.exponent + 1.0);
+    fatigue_grains(c, 2, f_c, damage, f_now, life, p);
+    CHECK(damage[1] == kFatigueDamageMax);
+    const CrushSummary later = crush_contacts(c, pa, 2, f_now, kn, h);
+    CHECK(later.crushing == 1);
+    CHECK(c.creep_normal_offset[0] > 0.0);
+    // Off: nothing moves.
+    std::vector<double> d2(2, 0.0), f2 = f_c;
+    CHECK(fatigue_grains(c, 2, f_c, d2, f2, 1e9, GrainFatigueParams{}).grains_damaged == 0);
+    CHECK(d2[1] == 0.0);
+}
+
+TEST_CASE("static fatigue scheme fields: bad values are named", "[crushing][fatigue]") {
+    protocol::TestScheme s;
+    s.creep.grain_fatigue_time_s = -1.0;
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("creep.grain_fatigue_time_s"));
+    s.creep.grain_fatigue_time_s = 1.0e6;
+    s.creep.grain_fatigue_exponent = 0.5;
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("creep.grain_fatigue_exponent"));
+    s.creep.grain_fatigue_exponent = 20.0;
+    CHECK_NOTHROW(s.validate());
 }

@@ -144,9 +144,32 @@ TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
     for (const auto& s : r.creep_stages) CHECK(s.translated.front().time_s == 0.0);
 }
 
+// The creep test on crushable grains (the presets' micro-parameters) with static fatigue
+// of the grains (delayed crushing, docs/creep.md "Static fatigue of grains"), at the
+// candidate t0 = 1e6 s, n = 20. All four of the paper's regimes must come out on it.
+static const TestResult& crushable_creep_run() {
+    static const TestResult r = [] {
+        RunObserver none;
+        TestScheme s = reduced(100e3, true);
+        s.creep.grain_fatigue_time_s = 1.0e6;
+        s.creep.grain_fatigue_exponent = 20.0;
+        return run_triaxial_test(s, none, Phase::Creep);
+    }();
+    return r;
+}
+
 TEST_CASE("(3b) the paper's tertiary creep: S=0.8 accelerates late", "[.][paper-gap][protocol]") {
-    const auto& r = creep_run();
+    // Hidden: on this 200-grain specimen the fatigue's creep comes in a few avalanches,
+    // and whether one lands in a stage's last fifth decides the flags (docs/creep.md,
+    // measured tables); it does not pass.
+    const auto& r = crushable_creep_run();
     REQUIRE(r.creep_stages.size() == 4);
+    CHECK(r.creep_stages[0].elastic_share >= 0.9);
+    for (int k : {1, 2}) {
+        INFO("stage S = " << r.creep_stages[k].stress_level);
+        CHECK(r.creep_stages[k].converged);
+        CHECK_FALSE(r.creep_stages[k].accelerating);
+    }
     CHECK(r.creep_stages[3].accelerating);
 }
 

@@ -1,0 +1,102 @@
+#pragma once
+// Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
+// the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
+// key=value overrides they accept. One place, so the two programs run the same specimen.
+// Keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf seed dmm rmin_mm
+//       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
+//       crushable grains) s3(kPa) hours verbose; creep holds (engine/protocol/creep_hold.hpp):
+//       gain (1 adaptive servo gain, 0 base: default) drift qs noov adload
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "engine/protocol/creep_hold.hpp"
+#include "engine/protocol/paper_groups.hpp"
+#include "engine/protocol/test_scheme.hpp"
+
+namespace triax::bench {
+
+struct ReducedCreepArgs {
+    protocol::TestScheme scheme;
+    double hours = 4.0;         // each of the 4 stages
+    double sigma3_kpa = 100.0;
+    bool verbose = false;
+    protocol::HoldOptions hold;  // the creep holds' servo (default: main's base gain)
+};
+
+// The reduced creep specimen (50 x 100 mm, ~200 grains, 4-h stages, seed 11).
+inline ReducedCreepArgs reduced_creep_defaults() {
+    ReducedCreepArgs a;
+    auto& s = a.scheme;
+    s.specimen.diameter_m = 0.05;
+    s.specimen.height_m = 0.1;
+    s.gradation.r_min_m = 2.5e-3;
+    s.gradation.radius_ratio = 3.0;
+    s.loading.max_axial_strain = 0.08;
+    s.creep.first_increment_s = 5.0;
+    s.creep.increment_growth = 1.4;
+    s.creep.max_increment_s = 1800.0;
+    s.seed = 11;
+    return a;
+}
+
+// Applies one key=value argument; false (and a message naming it) for an unknown key.
+inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
+    auto& s = a.scheme;
+    const auto eq = arg.find('=');
+    if (eq == std::string::npos) {
+        std::fprintf(stderr, "argument '%s': expected key=value\n", arg.c_str());
+        return false;
+    }
+    const std::string k = arg.substr(0, eq);
+    const double v = std::atof(arg.substr(eq + 1).c_str());
+    if (k == "A") s.creep.slip_rate_a_m_s = v;
+    else if (k == "beta") s.creep.slip_beta = v;
+    else if (k == "sh") s.creep.slip_hardening_length_m = v;
+    else if (k == "eps") s.creep.capacity_offset = v;
+    else if (k == "age") s.creep.aging_margin = v;
+    else if (k == "fc") s.creep.critical_mobilisation = v;
+    else if (k == "swf") s.creep.flow_wear_length_m = v * 1e-6;
+    else if (k == "af") s.creep.flow_rate_scale = v;
+    else if (k == "sw") s.creep.wear_length_m = v;
+    else if (k == "b2") s.creep.damage_b2 = v;
+    else if (k == "fth") s.creep.damage_threshold = v;
+    else if (k == "dmax") s.creep.wear_max = v;
+    else if (k == "b1") s.creep.damage_rate_b1_per_s = v;
+    else if (k == "relax") s.creep.max_relaxation_per_increment = v;
+    else if (k == "t0") s.creep.grain_fatigue_time_s = v;
+    else if (k == "nf") s.creep.grain_fatigue_exponent = v;
+    else if (k == "crush") { if (v != 0) s.micro = protocol::paper_group("C").micro; }
+    else if (k == "hours") a.hours = v;
+    else if (k == "seed") s.seed = static_cast<std::uint64_t>(v);
+    else if (k == "dmm") { s.specimen.diameter_m = v / 1000; s.specimen.height_m = 2 * v / 1000; }
+    else if (k == "rmin_mm") s.gradation.r_min_m = v / 1000;
+    else if (k == "ratio") s.gradation.radius_ratio = v;
+    else if (k == "first") s.creep.first_increment_s = v;
+    else if (k == "growth") s.creep.increment_growth = v;
+    else if (k == "cap") s.creep.max_increment_s = v;
+    else if (k == "threads") s.threads = static_cast<int>(v);
+    else if (k == "s3") a.sigma3_kpa = v;
+    else if (k == "verbose") a.verbose = v != 0;
+    else if (k == "gain") a.hold.adaptive_gain = v != 0;
+    else if (k == "drift") a.hold.drift_criterion = v != 0;
+    else if (k == "qs") a.hold.quasi_static_speed = v != 0;
+    else if (k == "noov") a.hold.no_overshoot = v != 0;
+    else if (k == "adload") a.hold.adaptive_loading = v != 0;
+    else {
+        std::fprintf(stderr, "unknown key %s\n", k.c_str());
+        return false;
+    }
+    return true;
+}
+
+// Parses argv[first..] and fills the loading (sigma3, 4 stages of `hours`).
+inline bool parse_creep_args(ReducedCreepArgs& a, int argc, char** argv, int first = 1) {
+    for (int k = first; k < argc; ++k)
+        if (!apply_creep_arg(a, argv[k])) return false;
+    a.scheme.loading.confining_pressure_pa = a.sigma3_kpa * 1e3;
+    a.scheme.loading.stage_durations_s.assign(4, a.hours * 3600.0);
+    return true;
+}
+
+}  // namespace triax::bench
