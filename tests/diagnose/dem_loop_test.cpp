@@ -89,6 +89,11 @@ std::string describe(const Case& c) {
     for (const auto& cd : r.candidates)
         t += "  step " + std::to_string(cd.step) + " " + cd.effect + " score " + std::to_string(cd.signature_score) +
              " dBIC " + std::to_string(cd.delta_bic_vs_base) + " " + cd.note + "\n";
+    for (const auto& b : r.error_before) {
+        if (b.phase != "all") continue;
+        auto a = std::find_if(r.error_after.begin(), r.error_after.end(), [&](auto& e) { return e.curve == b.curve && e.phase == "all"; });
+        t += "  " + b.curve + " nrmse " + std::to_string(b.nrmse) + " -> " + (a != r.error_after.end() ? std::to_string(a->nrmse) : "?") + "\n";
+    }
     for (const auto& p : r.parameters) t += "  " + p.name + " = " + std::to_string(p.value) + " +- " + std::to_string(p.std) + "\n";
     t += "  base model alone:";
     for (const auto& p : r.base_parameters) t += " " + p.name + " = " + std::to_string(p.value);
