@@ -6,8 +6,11 @@
 //   - one packing (common random numbers) with friction and modulus nudged by 1-2 %:
 //     whether the objective is smooth at the scale of a refinement step;
 //   - rolling resistance mu_r = 0.3 and grain breakage: the size of the effects the loop
-//     must detect, compared with the scatter above.
-// Usage: diagnose_dem_noise [r_min_mm=2.5] [sigma3_kPa=100] [max_strain_pct=5] [runs=all|seeds|sweep|effects|mimic]
+//     must detect, compared with the scatter above;
+//   - crush: grain crushability x = 0.6 MPa / crushing strength (the diagnosis's
+//     bond_degradation parameter, 0 = unbreakable) from 0 to 2, and x = 1 on other packings:
+//     how the crushing signal compares with the packing scatter at this sigma3.
+// Usage: diagnose_dem_noise [r_min_mm=2.5] [sigma3_kPa=100] [max_strain_pct=5] [runs=all|seeds|sweep|effects|mimic|crush]
 // Runs one case per thread on 2 threads (OMP_NUM_THREADS=1 inside each run).
 #include <atomic>
 #include <chrono>
@@ -120,6 +123,22 @@ int main(int argc, char** argv) {
             }
     }
 
+    if (which == "crush") {
+        // The diagnosis's mapping (dem_forward_model.cpp): sigma0 = 0.6 MPa / x.
+        for (double x : {0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0}) {
+            Case c{"crush x" + std::to_string(x).substr(0, 4), base};
+            c.scheme.micro.crushing_strength_pa = x > 0.0 ? triax::protocol::kPaperCrushingStrengthPa / x : 0.0;
+            cases.push_back(c);
+        }
+        for (std::uint64_t seed : {7, 13, 17})
+            for (double x : {0.0, 1.0}) {
+                Case c{"s" + std::to_string(seed) + " crush x" + std::to_string(x).substr(0, 3), base};
+                c.scheme.seed = seed;
+                c.scheme.micro.crushing_strength_pa = x > 0.0 ? triax::protocol::kPaperCrushingStrengthPa / x : 0.0;
+                cases.push_back(c);
+            }
+    }
+
     const double probes[] = {0.005, 0.01, 0.02, 0.03, 0.04, 0.05, 0.08, 0.12};
     std::vector<std::string> lines(cases.size());
     std::atomic<std::size_t> next{0};
@@ -148,6 +167,8 @@ int main(int argc, char** argv) {
                 std::snprintf(buf, sizeof buf, " %6.3f", 100.0 * interp(e, v, x));
                 line += buf;
             }
+            std::snprintf(buf, sizeof buf, "  breakage %.3g J", r.energies.empty() ? 0.0 : r.energies.back().breakage_j);
+            line += buf;
             std::lock_guard<std::mutex> lock(io);
             std::printf("%s\n", line.c_str());
             std::fflush(stdout);

@@ -78,7 +78,9 @@ bool DemForwardModel::includes(Effect e) const {
     const auto& fx = base_.effects;
     switch (e) {
         case Effect::RollingResistance: return fx.rolling_resistance || base_.micro.rolling_friction > 0.0;
-        case Effect::BondDegradation: return fx.grain_breakage;
+        // Crushable grains in the scheme (the paper-group presets): breakage is part of the
+        // base model there.
+        case Effect::BondDegradation: return base_.micro.crushing_strength_pa > 0.0;
         case Effect::ContactCreepViscosity: return fx.contact_creep_viscosity;
         case Effect::MoistureBonding: return fx.moisture_bonding;
         case Effect::SeatingError: return fx.seating_error;
@@ -113,11 +115,22 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
     if (includes(e)) return {};
     switch (e) {
         case Effect::RollingResistance: return {{"rolling_friction", "-", 0.0, 0.5, 0.1, false, true}};
-        case Effect::BondDegradation:
-            // The protocol's grain breakage scales the creep damage rate only: shear curves
-            // cannot see it (measured: identical shear curves with and without it).
-            if (!creep_in_lab_) return {};
-            return {{"breakage_damage_scale", "-", 0.0, 10.0, 1.0, false}};
+        case Effect::BondDegradation: {
+            // Grain crushing (engine/contact/grain_crushing.hpp) as a crushability
+            // x = sigma_ref / sigma0 (sigma_ref = the presets' 0.6 MPa): 0 = unbreakable
+            // grains (the model without the effect, so base runs seed the fit), 1 = the
+            // presets' slaking-mudstone grains, 2 = sigma0 0.3 MPa. Linear in x: a grain's
+            // crushing force is proportional to 1/x. It acts in shear (contraction growing
+            // with sigma3) and in the creep holds (creep slip shifts load onto crushable
+            // contacts). Measured on the reduced specimens: docs/diagnosis.md section 8.7.
+            std::vector<ParameterSpec> p{{"grain_crushability", "-", 0.0, kCrushabilityMax, 1.0, false, true}};
+            // Bond damage under load (stress corrosion of the bonds in the creep holds,
+            // breakage_damage_scale = 1 + extra): only creep curves of a bonded specimen
+            // can see it; off at 0 as well.
+            if (creep_in_lab_ && bonded_ && !base_.effects.grain_breakage)
+                p.push_back({"extra_bond_damage_rate", "-", 0.0, 9.0, 1.0, false, true});
+            return p;
+        }
         case Effect::ContactCreepViscosity:
             // Without lab creep curves the mechanism cannot be seen: do not propose it.
             if (!creep_in_lab_) return {};
@@ -153,8 +166,12 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
                 s.micro.rolling_friction = v[0];
                 break;
             case Effect::BondDegradation:
-                s.effects.grain_breakage = true;
-                s.effects.breakage_damage_scale = v[0];
+                if (v[0] < 0.0) throw std::invalid_argument("grain_crushability must be >= 0");
+                s.micro.crushing_strength_pa = v[0] > 0.0 ? kCrushabilityReferencePa / v[0] : 0.0;
+                if (v.size() > 1 && v[1] > 0.0) {
+                    s.effects.grain_breakage = true;
+                    s.effects.breakage_damage_scale = 1.0 + v[1];
+                }
                 break;
             case Effect::ContactCreepViscosity:
                 s.effects.contact_creep_viscosity = true;

@@ -14,7 +14,10 @@
 // Effects already switched on in the scheme are part of the base model and are not
 // proposed; the others map to TestEffects:
 //   rolling_resistance      -> rolling_friction mu_r (0..0.5)
-//   bond_degradation        -> grain_breakage, breakage_damage_scale (0..10)
+//   bond_degradation        -> grain crushing: crushability x = 0.6 MPa / sigma0 (0..2, 0 =
+//                              unbreakable), micro.crushing_strength_pa = 0.6 MPa / x; with
+//                              creep curves of a bonded specimen also extra bond damage e
+//                              (0..9): effects.grain_breakage, breakage_damage_scale 1 + e
 //   contact_creep_viscosity -> contact_creep_viscosity, viscosity_scale (log 0.01..100)
 //   moisture_bonding        -> moisture_bonding; one parameter: bond strength scale at the
 //                              scheme's moisture (log 0.05..20)
@@ -26,6 +29,11 @@
 namespace triax::diagnose {
 
 class DiagnoseObserver;
+
+// Grain crushability x = kCrushabilityReferencePa / crushing strength: x = 1 is the
+// paper-group presets' grain (0.6 MPa), x = kCrushabilityMax (0.3 MPa) the weakest tried.
+inline constexpr double kCrushabilityReferencePa = protocol::kPaperCrushingStrengthPa;
+inline constexpr double kCrushabilityMax = 2.0;
 
 class DemForwardModel final : public ForwardModel {
 public:

@@ -521,18 +521,24 @@ DiagnosisReport Loop::run() {
                     h.point_rss.push_back(same.cal.point_rss[q]);
                     h.point_residuals.push_back(same.cal.point_residuals[q]);
                 }
-                // Plus one probe further along the effect (a large lever against DEM noise).
                 // Plus one probe further along the effect (a large lever against DEM noise),
-                // and one from the scheme's nominal base (the prior): the base optimum may
-                // have drifted to mimic the effect with other parameters (friction, bonds),
-                // and the way back is a valley that local steps rarely find in a few runs.
+                // and two from the scheme's nominal base (the prior), with the effect there
+                // and at its nominal: the base optimum may have drifted to mimic the effect
+                // with other parameters (friction, bonds), and the way back is a valley that
+                // local steps rarely find in a few runs. The prior with the effect's nominal
+                // is the model's own first guess; without it a strong effect (grain
+                // crushing) was probed only from the drifted base or far beyond its nominal
+                // (measured on the DEM crushing case: step cut 49.6 %, friction 0.17 for 0.4).
                 UnitPoint start = extended(same.cal.best, e), further = start;
                 for (std::size_t q = start.size() - especs.size(); q < start.size(); ++q)
                     further[q] = std::min(1.0, start[q] + 0.4);
-                UnitPoint restart = further;
                 const UnitPoint prior = nominal_unit(base_specs_);
+                UnitPoint restart = further, at_prior = start;
                 std::copy(prior.begin(), prior.end(), restart.begin());
-                fits.push_back(fit(v, start, 0, opt_.refine_runs, false, &h, {further, restart}));
+                std::copy(prior.begin(), prior.end(), at_prior.begin());
+                std::vector<UnitPoint> probes{further, restart};
+                if (at_prior != start) probes.push_back(at_prior);
+                fits.push_back(fit(v, start, 0, opt_.refine_runs, false, &h, std::move(probes)));
             } else {
                 // Refinement from the current optimum: axial probes then local steps.
                 fits.push_back(fit(v, extended(same.cal.best, e), 0, opt_.refine_runs, true));

@@ -28,7 +28,8 @@ std::string_view effect_signature(Effect e) {
                    "the peak and in the dilation phase), more so at low confining pressure";
         case Effect::BondDegradation:
             return "model deviator too high at high confining pressure and contraction missing "
-                   "there (curved failure envelope the model draws straight)";
+                   "there, both growing with axial strain (grains crushing at the contacts); "
+                   "little change at low confining pressure; creep too small at high stress level";
         case Effect::ContactCreepViscosity:
             return "creep curves of the wrong shape: log-time slope and primary/steady share wrong, "
                    "growing with stress level; shear curves barely affected";

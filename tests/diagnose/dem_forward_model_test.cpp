@@ -1,5 +1,5 @@
-// The DEM forward model: parameter mapping onto the protocol's scheme (fast), and the
-// whole loop on a reduced DEM specimen with a hidden effect (slow, shear only).
+// The DEM forward model: parameter mapping onto the protocol's scheme (fast), and one
+// reduced run timed (hidden). The whole loop on DEM data is dem_loop_test.cpp.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -9,43 +9,17 @@
 #include "engine/diagnose/dem_forward_model.hpp"
 #include "engine/diagnose/diagnosis.hpp"
 #include "engine/protocol/test_scheme.hpp"
-#include "synthetic_lab.hpp"
+#include "lab_fixtures.hpp"
 
 using namespace triax::diagnose;
+using namespace triax::diagnose::testing;
 using triax::protocol::TestScheme;
 
 namespace {
-// The protocol tests' reduced specimen: 50 x 100 mm, ~200 grains of 2.5-7.5 mm radius.
-TestScheme reduced_scheme() {
-    TestScheme s;
-    s.name = "reduced";
-    s.specimen.diameter_m = 0.05;
-    s.specimen.height_m = 0.1;
-    s.gradation.r_min_m = 2.5e-3;
-    s.gradation.radius_ratio = 3.0;
-    s.loading.max_axial_strain = 0.08;
-    s.seed = 11;
-    return s;
-}
-
+// Two shear curves (50, 200 kPa) and a creep stage at 200 kPa.
 LabDataset lab_conditions() {
-    LabDataset lab;
-    for (double s3 : {50e3, 200e3}) {
-        LabCurve c;
-        c.kind = CurveKind::Shear;
-        c.confining_pa = s3;
-        c.axial_strain = {0.0, 0.01, 0.02};
-        c.deviator_pa = {0.0, 1e5, 2e5};
-        lab.curves.push_back(c);
-    }
-    LabCurve cr;
-    cr.kind = CurveKind::Creep;
-    cr.stage = 2;
-    cr.stress_level = 0.45;
-    cr.confining_pa = 200e3;
-    cr.time_s = {0.0, 600.0, 3000.0};
-    cr.axial_strain = {1e-3, 1.1e-3, 1.2e-3};
-    lab.curves.push_back(cr);
+    LabDataset lab = shear_conditions({50e3, 200e3});
+    lab.curves.push_back(creep_curve(2, 200e3, {0.0, 600.0, 3000.0}, {1e-3, 1.1e-3, 1.2e-3}, 0.45));
     return lab;
 }
 }  // namespace
@@ -85,29 +59,62 @@ TEST_CASE("DEM forward model maps parameters onto the scheme and skips effects a
     CHECK_THROWS_WITH(model.scheme_for(artefact, 100e3), Catch::Contains("test artefact"));
 }
 
-TEST_CASE("DEM forward model: creep-only effects are not offered on shear-only data", "[diagnose][dem]") {
-    // The protocol applies grain breakage (breakage_damage_scale) to the creep damage rate
-    // only, and contact creep viscosity acts in time: on shear curves alone neither can be
-    // seen (measured: identical shear curves with and without breakage), so neither is a
-    // candidate there, and the base model gets no creep slip-rate parameter.
+TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear data, creep viscosity is not", "[diagnose][dem]") {
+    // Grain breakage maps onto crushable grains (crushability x = 0.6 MPa / sigma0, off at
+    // 0), which act in shear: offered on shear-only data. Contact creep viscosity acts in
+    // time: on shear curves alone it cannot be seen, so it is not a candidate there, and
+    // the base model gets no creep slip-rate parameter.
     TestScheme base;
     base.effects.contact_creep_viscosity = false;
-    LabDataset shear_only;
-    LabCurve c;
-    c.kind = CurveKind::Shear;
-    c.confining_pa = 100e3;
-    c.axial_strain = {0.0, 0.01, 0.02};
-    c.deviator_pa = {0.0, 1e5, 2e5};
-    shear_only.curves.push_back(c);
-    const DemForwardModel shear_model(base, shear_only, 1, 0);
-    CHECK(shear_model.effect_parameters(Effect::BondDegradation).empty());
+    const DemForwardModel shear_model(base, shear_conditions({100e3}), 1, 0);
+    CHECK_FALSE(shear_model.includes(Effect::BondDegradation));
+    const auto crush = shear_model.effect_parameters(Effect::BondDegradation);
+    REQUIRE(crush.size() == 1);
+    CHECK(crush[0].name == "grain_crushability");
+    CHECK(crush[0].lower == 0.0);
+    CHECK(crush[0].lower_is_off);
+    CHECK(crush[0].upper == Approx(kCrushabilityMax));
+    CHECK(crush[0].nominal == Approx(1.0));  // the paper-group presets' grain
     CHECK(shear_model.effect_parameters(Effect::ContactCreepViscosity).empty());
     CHECK(shear_model.effect_parameters(Effect::RollingResistance).size() == 1);
 
+    const auto nominal = [&](const DemForwardModel& m) {
+        std::vector<double> v;
+        for (const auto& s : m.base_parameters()) v.push_back(s.nominal);
+        return v;
+    };
+    // x -> sigma0 = 0.6 MPa / x; x = 0 is unbreakable (the scheme without the effect);
+    // the presets' Weibull modulus, reference diameter and hardening are kept.
+    const TestScheme s1 = shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {0.75}}}}, 200e3);
+    CHECK(s1.micro.crushing_strength_pa == Approx(0.8e6));
+    CHECK(s1.micro.crushing_weibull_modulus == base.micro.crushing_weibull_modulus);
+    CHECK(s1.micro.crushing_hardening_ratio == base.micro.crushing_hardening_ratio);
+    CHECK_FALSE(s1.effects.grain_breakage);  // creep bond damage untouched
+    const TestScheme s0 = shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {0.0}}}}, 200e3);
+    CHECK(s0.micro.crushing_strength_pa == 0.0);
+    CHECK_THROWS_WITH(shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {-0.5}}}}, 200e3),
+                      Catch::Contains("grain_crushability"));
+
+    // With creep curves of a bonded specimen: a second parameter, extra bond damage in the
+    // creep holds (breakage_damage_scale = 1 + e), off at 0 too.
     const DemForwardModel creep_model(base, lab_conditions(), 1, 0);
-    REQUIRE(creep_model.effect_parameters(Effect::BondDegradation).size() == 1);
-    CHECK(creep_model.effect_parameters(Effect::BondDegradation)[0].name == "breakage_damage_scale");
+    const auto both = creep_model.effect_parameters(Effect::BondDegradation);
+    REQUIRE(both.size() == 2);
+    CHECK(both[1].name == "extra_bond_damage_rate");
+    CHECK(both[1].lower_is_off);
     CHECK(creep_model.effect_parameters(Effect::ContactCreepViscosity).size() == 1);
+    const TestScheme s2 = creep_model.scheme_for({nominal(creep_model), {{Effect::BondDegradation, {0.5, 2.0}}}}, 200e3);
+    CHECK(s2.micro.crushing_strength_pa == Approx(1.2e6));
+    CHECK(s2.effects.grain_breakage);
+    CHECK(s2.effects.breakage_damage_scale == Approx(3.0));
+
+    // Crushable grains already in the scheme (the paper-group presets): breakage is part
+    // of the base model and not proposed again.
+    TestScheme crushable = base;
+    crushable.micro.crushing_strength_pa = 0.6e6;
+    const DemForwardModel preset_model(crushable, shear_conditions({100e3}), 1, 0);
+    CHECK(preset_model.includes(Effect::BondDegradation));
+    CHECK(preset_model.effect_parameters(Effect::BondDegradation).empty());
 
     // Physical priors of the base parameters (docs/diagnosis.md section 6): friction of
     // mineral grains, bond strength within a factor 3 of the moisture relation.
@@ -121,15 +128,8 @@ TEST_CASE("DEM forward model: creep-only effects are not offered on shear-only d
 }
 
 TEST_CASE("DEM forward model: one reduced shear run, timed", "[diagnose][dem][.timing]") {
-    TestScheme base = reduced_scheme();
-    LabDataset lab;
-    LabCurve c;
-    c.kind = CurveKind::Shear;
-    c.confining_pa = 100e3;
-    c.axial_strain = {0.0, 0.05, 0.1};
-    c.deviator_pa = {0.0, 1e5, 2e5};
-    lab.curves.push_back(c);
-    const DemForwardModel model(base, lab, 1, 0);
+    // The protocol tests' reduced specimen: ~200 grains of 2.5-7.5 mm radius, to 8 %.
+    const DemForwardModel model(reduced_scheme(2.5e-3, 0.08, 11), shear_conditions({100e3}, 0.1), 1, 0);
     std::vector<double> nominal;
     for (const auto& s : model.base_parameters()) nominal.push_back(s.nominal);
     const auto t0 = std::chrono::steady_clock::now();

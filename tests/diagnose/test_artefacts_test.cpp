@@ -2,29 +2,17 @@
 #include <catch2/catch.hpp>
 
 #include "engine/diagnose/test_artefacts.hpp"
+#include "lab_fixtures.hpp"
 
 using namespace triax::diagnose;
+using namespace triax::diagnose::testing;
 
 namespace {
 LabDataset dataset() {
     LabDataset d;
-    LabCurve sh;
-    sh.kind = CurveKind::Shear;
-    sh.confining_pa = 100e3;
-    sh.axial_strain = {0.0, 0.01, 0.02};
-    sh.deviator_pa = {0.0, 1e5, 1.5e5};
-    sh.volumetric_strain = {0.0, 0.001, 0.0015};
-    d.curves.push_back(sh);
-    for (int s = 1; s <= 2; ++s) {
-        LabCurve c;
-        c.kind = CurveKind::Creep;
-        c.stage = s;
-        c.confining_pa = 100e3;
-        c.time_s = {0.0, 100.0};
-        c.axial_strain = {0.001, 0.002};
-        c.axial_deformation_m = {0.0002, 0.0004};
-        d.curves.push_back(c);
-    }
+    d.curves.push_back(shear_curve(100e3, {0.0, 0.01, 0.02}, {0.0, 1e5, 1.5e5}, {0.0, 0.001, 0.0015}));
+    for (int s = 1; s <= 2; ++s)
+        d.curves.push_back(creep_curve(s, 100e3, {0.0, 100.0}, {0.001, 0.002}, 0.0, {0.0002, 0.0004}));
     return d;
 }
 }  // namespace

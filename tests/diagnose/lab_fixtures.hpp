@@ -1,0 +1,59 @@
+#pragma once
+// Fixtures shared by the diagnosis tests: lab curves built by hand (shear, creep), the
+// conditions-only datasets a DemForwardModel is built on (a curve per confining pressure
+// whose readings only fix the pressure and the strain range), and the reduced DEM
+// specimen of the CI cases.
+#include <cstdint>
+#include <vector>
+
+#include "engine/diagnose/lab_data.hpp"
+#include "engine/protocol/test_scheme.hpp"
+
+namespace triax::diagnose::testing {
+
+inline LabCurve shear_curve(double confining_pa, std::vector<double> axial_strain, std::vector<double> deviator_pa,
+                            std::vector<double> volumetric_strain = {}) {
+    LabCurve c;
+    c.kind = CurveKind::Shear;
+    c.confining_pa = confining_pa;
+    c.axial_strain = std::move(axial_strain);
+    c.deviator_pa = std::move(deviator_pa);
+    c.volumetric_strain = std::move(volumetric_strain);
+    return c;
+}
+
+inline LabCurve creep_curve(int stage, double confining_pa, std::vector<double> time_s, std::vector<double> axial_strain,
+                            double stress_level = 0.0, std::vector<double> axial_deformation_m = {}) {
+    LabCurve c;
+    c.kind = CurveKind::Creep;
+    c.stage = stage;
+    c.confining_pa = confining_pa;
+    c.stress_level = stress_level;
+    c.time_s = std::move(time_s);
+    c.axial_strain = std::move(axial_strain);
+    c.axial_deformation_m = std::move(axial_deformation_m);
+    return c;
+}
+
+// Shear-only conditions: one placeholder curve to max_strain per confining pressure.
+inline LabDataset shear_conditions(const std::vector<double>& confining_pa, double max_strain = 0.02) {
+    LabDataset lab;
+    for (double s3 : confining_pa) lab.curves.push_back(shear_curve(s3, {0.0, 0.5 * max_strain, max_strain}, {0.0, 1e5, 2e5}));
+    return lab;
+}
+
+// Reduced DEM specimen 50 x 100 mm, radius ratio 3 (about 200 grains at r_min 2.5 mm,
+// 400 at 2.0 mm), unbreakable grains (the scheme default), sheared to max_strain.
+inline protocol::TestScheme reduced_scheme(double r_min_m, double max_strain, std::uint64_t seed) {
+    protocol::TestScheme s;
+    s.name = "reduced";
+    s.specimen.diameter_m = 0.05;
+    s.specimen.height_m = 0.1;
+    s.gradation.r_min_m = r_min_m;
+    s.gradation.radius_ratio = 3.0;
+    s.loading.max_axial_strain = max_strain;
+    s.seed = seed;
+    return s;
+}
+
+}  // namespace triax::diagnose::testing
