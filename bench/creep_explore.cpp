@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "bench/reduced_creep_args.hpp"
 #include "engine/protocol/triaxial_test.hpp"
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
         }
     } trace;
     trace.on = verbose;
+    std::vector<HoldRecord> holds;
+    args.hold.log = &holds;
     const auto r = run_triaxial_test(s, trace, Phase::Creep, args.hold);
     std::printf("q_f %.1f kPa, grains %d, relaxations %ld, total steps %ld, wall %.1f s\n", r.q_failure_pa / 1e3,
                 r.particle_count, r.creep_relaxations, r.total_steps, r.wall_time_s);
@@ -48,6 +51,17 @@ int main(int argc, char** argv) {
                 b1 = e.breakage_j;
             }
         std::printf("  breakage %.3g mJ, failed grains %d\n", 1e3 * (b1 - std::max(b0, 0.0)), st.failed_grains);
+    }
+    // The creep holds per stage: loading step (ramp) and increments (cycles, at max).
+    for (std::size_t k = 0; k < holds.size();) {
+        const HoldRecord& load = holds[k];
+        long inc = 0, cyc = 0, at_max = 0;
+        for (++k; k < holds.size() && holds[k].target_pa == load.target_pa; ++k, ++inc) {
+            cyc += holds[k].cycles;
+            at_max += holds[k].at_max;
+        }
+        std::printf("holds at %.1f kPa: loading %ld (ramp %ld)%s, %ld increments %ld cycles, %ld at max\n",
+                    load.target_pa / 1e3, load.cycles, load.ramp_cycles, load.at_max ? " at max" : "", inc, cyc, at_max);
     }
     return 0;
 }

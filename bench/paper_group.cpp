@@ -3,11 +3,13 @@
 // specimen with the preset's DEM gradation (docs/parameters.md, "Paper-group gradation").
 // Reports particle counts, wall time per phase and in total, and the summary.
 // Usage: paper_group [A|B|C|D|E] [threads] [out.json|-] [--shear-only] [--reduced] [--stage-hours H]
-//                    [--adaptive] [--no-drift] [--no-qs-cap] [--adaptive-loading]
+//                    [--at-rest] [--adaptive] [--rest-bound X] [--no-qs-cap]
 // (--reduced: the 50 x 100 mm specimen of the protocol tests, same sigma3, for comparison;
 //  --stage-hours H: every creep stage lasts H hours instead of the preset's 2.5 days, the
 //  short benchmark of docs/engine.md, "Performance of the full-size paper group";
-//  --adaptive / --no-drift: the creep holds' adaptive servo gain / without the drift criterion,
+//  --at-rest: the creep readings at mechanical rest (loading ramp, rest criterion;
+//  HoldOptions::at_rest), else the default holds; --adaptive: the adaptive servo gain;
+//  --rest-bound X: the rest criterion's bound (strain per 1000 cycles);
 //  engine/protocol/creep_hold.hpp, for A/B comparisons)
 // Run with OMP_WAIT_POLICY=passive on a shared machine (spinning threads steal the core).
 #include <chrono>
@@ -66,11 +68,15 @@ int main(int argc, char** argv) {
     triax::protocol::HoldOptions hold;
     std::vector<triax::protocol::HoldRecord> holds;
     hold.log = &holds;
+    for (int k = 1; k < argc; ++k)
+        if (std::strcmp(argv[k], "--at-rest") == 0) {
+            hold = triax::protocol::HoldOptions::at_rest(false);
+            hold.log = &holds;
+        }
     for (int k = 1; k < argc; ++k) {
         if (std::strcmp(argv[k], "--adaptive") == 0) hold.adaptive_gain = true;
-        if (std::strcmp(argv[k], "--no-drift") == 0) hold.drift_criterion = false;
         if (std::strcmp(argv[k], "--no-qs-cap") == 0) hold.quasi_static_speed = false;
-        if (std::strcmp(argv[k], "--adaptive-loading") == 0) hold.adaptive_loading = true;
+        if (std::strcmp(argv[k], "--rest-bound") == 0 && k + 1 < argc) hold.rest_strain_per_kcycle = std::stod(argv[k + 1]);
         shear_only |= std::strcmp(argv[k], "--shear-only") == 0;
         reduced |= std::strcmp(argv[k], "--reduced") == 0;
         if (std::strcmp(argv[k], "--stage-hours") == 0 && k + 1 < argc)
@@ -126,8 +132,10 @@ int main(int argc, char** argv) {
                     s.stage, s.stress_level, s.instant_deformation_m * 1e3, s.final_deformation_m * 1e3,
                     s.elastic_share, s.share_in_first_30min * 100, s.converged, s.accelerating, last - first);
     }
-    std::printf("creep relaxations %ld (holds: %s servo gain, drift criterion %s)\n", r.creep_relaxations,
-                hold.adaptive_gain ? "adaptive" : "base", hold.drift_criterion ? "on" : "off");
+    std::printf("creep relaxations %ld (holds: %s servo gain, loading ramp %s, rest criterion %s (%.1e per 1000 "
+                "cycles), legacy drift criterion %s)\n",
+                r.creep_relaxations, hold.adaptive_gain ? "adaptive" : "base", hold.loading_ramp ? "on" : "off",
+                hold.rest_criterion ? "on" : "off", hold.rest_strain_per_kcycle, hold.drift_criterion ? "on" : "off");
     // Where the creep holds' cycles go: per stage (target), loading hold and the increments'
     // holds by size class.
     {
@@ -135,7 +143,7 @@ int main(int argc, char** argv) {
         while (k < holds.size()) {
             const double target = holds[k].target_pa;
             long inc = 0, inc_cycles = 0, at_min = 0, small = 0, big = 0, at_max = 0;
-            const long loading = holds[k].cycles;
+            const long loading = holds[k].cycles, ramp = holds[k].ramp_cycles;
             for (++k; k < holds.size() && holds[k].target_pa == target; ++k) {
                 ++inc;
                 inc_cycles += holds[k].cycles;
@@ -144,9 +152,9 @@ int main(int argc, char** argv) {
                 big += holds[k].cycles > 1000;
                 at_max += holds[k].at_max;
             }
-            std::printf("holds at sigma1 %.1f kPa: loading %ld cycles%s; %ld increment holds, %ld cycles (<=150: %ld, "
+            std::printf("holds at sigma1 %.1f kPa: loading %ld cycles (ramp %ld)%s; %ld increment holds, %ld cycles (<=150: %ld, "
                         "151-1000: %ld, >1000: %ld, at max: %ld)\n",
-                        target * 1e-3, loading, holds[k - inc - 1].at_max ? " (at max)" : "", inc, inc_cycles, at_min,
+                        target * 1e-3, loading, ramp, holds[k - inc - 1].at_max ? " (at max)" : "", inc, inc_cycles, at_min,
                         small, big, at_max);
         }
     }

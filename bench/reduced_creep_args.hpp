@@ -5,7 +5,9 @@
 // Keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
 //       crushable grains) s3(kPa) hours verbose; creep holds (engine/protocol/creep_hold.hpp):
-//       gain (1 adaptive servo gain, 0 base: default) drift qs noov adload
+//       rest (1: the convention at rest, HoldOptions::at_rest, with the gain and bound given)
+//       gain (1 adaptive servo gain, 0 base: default) adload ramp restb (rest bound, strain per
+//       1000 cycles) restk (rest window, chunks) drift qs noov
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -21,7 +23,7 @@ struct ReducedCreepArgs {
     double hours = 4.0;         // each of the 4 stages
     double sigma3_kpa = 100.0;
     bool verbose = false;
-    protocol::HoldOptions hold;  // the creep holds' servo (default: main's base gain)
+    protocol::HoldOptions hold;  // the creep holds' servo and reading convention (default: the protocol's)
 };
 
 // The reduced creep specimen (50 x 100 mm, ~200 grains, 4-h stages, seed 11).
@@ -83,6 +85,16 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "qs") a.hold.quasi_static_speed = v != 0;
     else if (k == "noov") a.hold.no_overshoot = v != 0;
     else if (k == "adload") a.hold.adaptive_loading = v != 0;
+    else if (k == "ramp") a.hold.loading_ramp = v != 0;
+    else if (k == "rest") {
+        const auto r = v != 0 ? protocol::HoldOptions::at_rest(false) : protocol::HoldOptions{};
+        a.hold.adaptive_loading = r.adaptive_loading;
+        a.hold.loading_ramp = r.loading_ramp;
+        a.hold.rest_criterion = r.rest_criterion;
+        a.hold.drift_criterion = r.drift_criterion;
+    }
+    else if (k == "restb") a.hold.rest_strain_per_kcycle = v;
+    else if (k == "restk") a.hold.rest_window_chunks = static_cast<int>(v);
     else {
         std::fprintf(stderr, "unknown key %s\n", k.c_str());
         return false;
