@@ -133,6 +133,16 @@ TEST_CASE("static fatigue: exact update at fixed force, finite life t0 r^-n / (n
     CHECK(life08 / life == Approx(std::pow(9.0 / 8.0, 20.0)));
     // Loads above the strength fatigue at the rate of a grain at its strength (r capped).
     CHECK(fatigue_damage_update(0.0, 1.5, 10.0, p) == Approx(fatigue_damage_update(0.0, 1.0, 10.0, p)));
+    // With a higher cap (creep.grain_fatigue_ratio_cap), a grain loaded beyond its intact
+    // strength (a shared broken neighbour's load on a hardened contact) fatigues at its own
+    // ratio, up to the cap: (1.5)^20 ~ 3,300 times the rate at the strength.
+    GrainFatigueParams shared = p;
+    shared.ratio_cap = 2.0;
+    const double dt_tiny = 1e-6;
+    CHECK(fatigue_damage_update(0.0, 1.5, dt_tiny, shared) ==
+          Approx(std::pow(1.5, p.exponent) * fatigue_damage_update(0.0, 1.0, dt_tiny, shared)).epsilon(1e-3));
+    CHECK(fatigue_damage_update(0.0, 3.0, dt_tiny, shared) == Approx(fatigue_damage_update(0.0, 2.0, dt_tiny, shared)));
+    CHECK(fatigue_time_to_failure(0.0, 1.5, shared) == Approx(fatigue_time_to_failure(0.0, 1.0, p) * std::pow(1.5, -p.exponent)));
     // Off (t0 = 0): no damage.
     GrainFatigueParams off;
     CHECK(fatigue_damage_update(0.2, 0.99, 1e9, off) == 0.2);
@@ -227,5 +237,8 @@ TEST_CASE("static fatigue scheme fields: bad values are named", "[crushing][fati
     s.creep.grain_fatigue_exponent = 0.5;
     CHECK_THROWS_WITH(s.validate(), Catch::Contains("creep.grain_fatigue_exponent"));
     s.creep.grain_fatigue_exponent = 20.0;
+    s.creep.grain_fatigue_ratio_cap = 0.9;
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("creep.grain_fatigue_ratio_cap"));
+    s.creep.grain_fatigue_ratio_cap = 1.0;
     CHECK_NOTHROW(s.validate());
 }
