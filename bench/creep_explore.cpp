@@ -24,7 +24,16 @@ int main(int argc, char** argv) {
         void creep_point(int stage, const CreepPoint& p) override {
             if (on) std::fprintf(stderr, "stage %d t %.1f min d %.4f mm\n", stage, p.time_s / 60, p.axial_deformation_m * 1e3);
         }
+        // verbose=2 also prints each physical-time piece (schedule diagnostics).
+        bool pieces = false;
+        void creep_increment(const CreepIncrementLog& l) override {
+            if (pieces)
+                std::fprintf(stderr, "piece stage %d t %.2f min dt %.1f s cycles %ld crush %ld at_strength %ld failed %ld dDmax %.2e rmax %.3f d %.4f mm\n",
+                             l.stage, l.t_stage_s / 60, l.dt_s, l.hold_cycles, l.crushing_events, l.grains_at_strength,
+                             l.grains_failed, l.max_damage_increment, l.max_force_ratio, l.deformation_m * 1e3);
+        }
     } trace;
+    trace.pieces = args.verbose_level >= 2;
     trace.on = verbose;
     std::vector<HoldRecord> holds;
     args.hold.log = &holds;

@@ -2,7 +2,7 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf seed dmm rmin_mm
+// Keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf rcap seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
 //       crushable grains) s3(kPa) hours verbose; creep holds (engine/protocol/creep_hold.hpp):
 //       rest (1: the convention at rest, HoldOptions::at_rest, with the gain and bound given)
@@ -23,6 +23,7 @@ struct ReducedCreepArgs {
     double hours = 4.0;         // each of the 4 stages
     double sigma3_kpa = 100.0;
     bool verbose = false;
+    int verbose_level = 0;  // verbose=2: also the per-piece schedule log
     protocol::HoldOptions hold;  // the creep holds' servo and reading convention (default: the protocol's)
 };
 
@@ -68,6 +69,7 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "relax") s.creep.max_relaxation_per_increment = v;
     else if (k == "t0") s.creep.grain_fatigue_time_s = v;
     else if (k == "nf") s.creep.grain_fatigue_exponent = v;
+    else if (k == "rcap") s.creep.grain_fatigue_ratio_cap = v;
     else if (k == "crush") { if (v != 0) s.micro = protocol::paper_group("C").micro; }
     else if (k == "hours") a.hours = v;
     else if (k == "seed") s.seed = static_cast<std::uint64_t>(v);
@@ -79,7 +81,7 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "cap") s.creep.max_increment_s = v;
     else if (k == "threads") s.threads = static_cast<int>(v);
     else if (k == "s3") a.sigma3_kpa = v;
-    else if (k == "verbose") a.verbose = v != 0;
+    else if (k == "verbose") { a.verbose = v != 0; a.verbose_level = static_cast<int>(v); }
     else if (k == "gain") a.hold.adaptive_gain = v != 0;
     else if (k == "drift") a.hold.drift_criterion = v != 0;
     else if (k == "qs") a.hold.quasi_static_speed = v != 0;

@@ -122,6 +122,7 @@ constexpr double kFatigueDamageMax = 0.9;
 struct GrainFatigueParams {
     double time_s = 0.0;     // t0: failure time of a grain loaded to its strength x (n + 1); 0 = off
     double exponent = 20.0;  // n: static-fatigue (Charles) exponent
+    double ratio_cap = 1.0;  // r is capped here (1: beyond the strength = at it)
     bool enabled() const { return time_s > 0.0; }
 };
 
@@ -129,10 +130,21 @@ struct GrainFatigueParams {
 inline double fatigue_damage_update(double damage, double r, double dt, const GrainFatigueParams& p) {
     if (!p.enabled() || r <= 0.0 || dt <= 0.0) return damage;
     const double n = p.exponent;
-    const double rate = (n + 1.0) * (dt / p.time_s) * std::pow(std::min(r, 1.0), n);
+    const double rate = (n + 1.0) * (dt / p.time_s) * std::pow(std::min(r, p.ratio_cap), n);
     const double rest = std::pow(1.0 - damage, n + 1.0) - rate;
     if (rest <= 0.0) return kFatigueDamageMax;
     return std::min(kFatigueDamageMax, 1.0 - std::pow(rest, 1.0 / (n + 1.0)));
+}
+
+// Time (s) for a grain at fixed force ratio r to reach D_max from damage D (the exact
+// update's inverse): t = t0 ((1 - D)^(n+1) - (1 - D_max)^(n+1)) / ((n + 1) r^n).
+// Infinite when r <= 0 or the fatigue is off; 0 for a grain already at D_max.
+inline double fatigue_time_to_failure(double damage, double r, const GrainFatigueParams& p) {
+    if (!p.enabled() || r <= 0.0) return HUGE_VAL;
+    if (damage >= kFatigueDamageMax) return 0.0;
+    const double n = p.exponent;
+    const double span = std::pow(1.0 - damage, n + 1.0) - std::pow(1.0 - kFatigueDamageMax, n + 1.0);
+    return p.time_s * span / ((n + 1.0) * std::pow(std::min(r, p.ratio_cap), n));
 }
 
 // Largest grain-grain contact force (N, compression) on each grain [0, n_grains).
@@ -149,8 +161,14 @@ inline void grain_peak_forces(const ContactStore& c, int n_grains, std::vector<d
 }
 
 struct FatigueSummary {
-    double max_increment = 0.0;  // largest growth of D over the grains
+    double max_increment = 0.0;  // largest growth of D over the grains that do not fail in dt
     long grains_damaged = 0;     // grains whose D grew
+    long grains_at_strength = 0; // grains with r >= 1 (a contact at or above the intact strength)
+    long grains_failed = 0;      // grains at D_max after the update
+    double max_ratio = 0.0;      // largest F_max / F_c (uncapped) over the grains not failed
+    // Shortest time (s) for a grain not yet at D_max to reach it at the present forces:
+    // the next failure event, where the load must be redistributed before going on.
+    double next_failure_s = HUGE_VAL;
 };
 
 // Advances every grain's fatigue damage over dt at its present peak force and writes the
@@ -164,10 +182,18 @@ inline FatigueSummary fatigue_grains(const ContactStore& c, int n_grains, const 
     std::vector<double> f_max;
     grain_peak_forces(c, n_grains, f_max);
     for (int i = 0; i < n_grains; ++i) {
-        const double d_new = fatigue_damage_update(damage[i], f_max[i] / crush_force[i], dt, p);
+        const double r = f_max[i] / crush_force[i];
+        if (damage[i] < kFatigueDamageMax) sum.max_ratio = std::max(sum.max_ratio, r);
+        if (damage[i] < kFatigueDamageMax)
+            sum.next_failure_s = std::min(sum.next_failure_s, fatigue_time_to_failure(damage[i], r, p));
+        const double d_new = fatigue_damage_update(damage[i], r, dt, p);
         const double inc = d_new - damage[i];
+        if (f_max[i] >= crush_force[i]) ++sum.grains_at_strength;
+        if (d_new >= kFatigueDamageMax) ++sum.grains_failed;
         if (inc <= 0.0) continue;
-        sum.max_increment = std::max(sum.max_increment, inc);
+        // A grain that fails within dt is the piece's failure event (it ends the piece,
+        // next_failure_s); its last runaway to D_max is not a step to be resolved.
+        if (d_new < kFatigueDamageMax) sum.max_increment = std::max(sum.max_increment, inc);
         ++sum.grains_damaged;
         if (!apply) continue;
         damage[i] = d_new;

@@ -8,6 +8,21 @@
 
 namespace triax::protocol {
 
+// One physical-time piece of a creep stage (diagnostics of the increment schedule: bench
+// programs log it to check that a stage's curve does not follow the schedule).
+struct CreepIncrementLog {
+    int stage = 0;
+    double t_stage_s = 0.0;      // stage time at the piece's end
+    double dt_s = 0.0;           // the piece (after splitting)
+    long hold_cycles = 0;        // cycles of the relaxation that followed it
+    long crushing_events = 0;    // contact return maps (yielding) during that relaxation
+    long grains_at_strength = 0; // grains with a contact at or above their intact strength (r >= 1)
+    long grains_failed = 0;      // grains at the fatigue cap D_max after the piece
+    double max_damage_increment = 0.0;  // largest fatigue growth dD of the piece
+    double max_force_ratio = 0.0;       // largest F_max / F_c of a grain not yet failed
+    double deformation_m = 0.0;  // axial deformation after the relaxation
+};
+
 // Stage names: "generation", "consolidation", "shear", "creep-1".."creep-N", "done".
 class RunObserver {
 public:
@@ -21,6 +36,7 @@ public:
     virtual void creep_point(int /*stage*/, const CreepPoint&) {}
     virtual void energy_sample(const EnergySample&) {}
     virtual void measurement_sample(const MeasurementSample&) {}
+    virtual void creep_increment(const CreepIncrementLog&) {}
     // Polled between increments; returning true ends the run with result.cancelled = true.
     virtual bool cancel_requested() { return false; }
 };

@@ -56,6 +56,8 @@ void TestScheme::validate() const {
     require(creep.grain_fatigue_time_s >= 0.0, "creep.grain_fatigue_time_s", "must be >= 0 (0 = no static fatigue)");
     require(creep.grain_fatigue_exponent >= 1.0 && creep.grain_fatigue_exponent <= 100.0, "creep.grain_fatigue_exponent",
             "must be in [1, 100]");
+    require(creep.grain_fatigue_ratio_cap >= 1.0 && creep.grain_fatigue_ratio_cap <= 10.0, "creep.grain_fatigue_ratio_cap",
+            "must be in [1, 10]");
     require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,
             "creep.max_relaxation_per_increment", "must be in (0, 1]");
     require(creep.first_increment_s > 0.0, "creep.first_increment_s", "must be > 0");

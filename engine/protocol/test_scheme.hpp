@@ -109,6 +109,11 @@ struct CreepLawParameters {
     // F_c (1 - D). Acts in creep stages only, and only when micro.crushing_strength_pa > 0.
     double grain_fatigue_time_s = 0.0;     // t0; 0 = off
     double grain_fatigue_exponent = 20.0;  // n (Charles' law exponent, rock 10-40)
+    // Cap on the force ratio r = F_max / F_c that drives the fatigue. 1: a grain loaded
+    // beyond its intact strength (a hardened, flattened contact) fatigues like one at its
+    // strength; > 1: at F/F_c (McDowell's characteristic stress F/d^2 grows with F), so a
+    // grain that takes a broken neighbour's load fatigues faster (fibre-bundle load sharing).
+    double grain_fatigue_ratio_cap = 1.0;
     // Physical-time scheduler.
     double first_increment_s = 1.0;        // first time increment of a creep stage
     double increment_growth = 1.25;        // geometric growth of increments

@@ -265,6 +265,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         GrainFatigueParams fatigue;  // static fatigue of crushable grains (creep stages only)
         fatigue.time_s = vs > 0.0 ? scheme.creep.grain_fatigue_time_s / vs : 0.0;  // creep effect off: none
         fatigue.exponent = scheme.creep.grain_fatigue_exponent;
+        fatigue.ratio_cap = scheme.creep.grain_fatigue_ratio_cap;
 
         const double hc = sp.height();  // reference height of the creep test
         const double z_top0 = sp.top_z();
@@ -348,6 +349,14 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 double left = dts[n];
                 while (left > 0.0) {
                     double h = left;
+                    // A grain fatigued to failure (D_max) within the piece ends it: the
+                    // broken grain's load must move to its neighbours (relaxation) before
+                    // their fatigue goes on, so a fibre-bundle cascade is resolved one
+                    // redistribution at a time and the failure times do not follow the
+                    // schedule. The piece overshoots the exact failure time by 1e-6 of it
+                    // so that the exact update reaches D_max.
+                    const double t_fail = sp.advance_fatigue(h, fatigue, false).next_failure_s;
+                    if (t_fail < h) h = std::min(h, t_fail * (1.0 + 1e-6));
                     // ... or would fatigue a grain by more than a tenth of its strength.
                     for (int halving = 0; halving < 8 && (creep_law.trial(w, h).relaxation >
                                                               scheme.creep.max_relaxation_per_increment ||
@@ -355,10 +364,23 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                          ++halving)
                         h *= 0.5;
                     creep_law.advance(w, h);
-                    sp.advance_fatigue(h, fatigue);
-                    holder.hold(sigma3 + q_target, 100, 20000, &rotation, false);
+                    const FatigueSummary fs = sp.advance_fatigue(h, fatigue);
+                    const long crushed_before = sp.crushing_events();
+                    const long cycles = holder.hold(sigma3 + q_target, 100, 20000, &rotation, false);
                     ++res.creep_relaxations;
                     left = h < left ? left - h : 0.0;
+                    CreepIncrementLog il;
+                    il.stage = k + 1;
+                    il.t_stage_s = t + (dts[n] - left);
+                    il.dt_s = h;
+                    il.hold_cycles = cycles;
+                    il.crushing_events = sp.crushing_events() - crushed_before;
+                    il.grains_at_strength = fs.grains_at_strength;
+                    il.grains_failed = fs.grains_failed;
+                    il.max_damage_increment = fs.max_increment;
+                    il.max_force_ratio = fs.max_ratio;
+                    il.deformation_m = z_top0 - sp.top_z();
+                    obs.creep_increment(il);
                 }
                 t += dts[n];
                 record(t);

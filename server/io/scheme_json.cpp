@@ -70,6 +70,7 @@ const std::vector<NumberField>& number_fields() {
         {"creep", "damage_threshold", "creep.damage_threshold", [](TestScheme& s) -> double& { return s.creep.damage_threshold; }, 1.0},
         {"creep", "grain_fatigue_time_s", "creep.grain_fatigue_time_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_time_s; }, 1.0},
         {"creep", "grain_fatigue_exponent", "creep.grain_fatigue_exponent", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_exponent; }, 1.0},
+        {"creep", "grain_fatigue_ratio_cap", "creep.grain_fatigue_ratio_cap", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_ratio_cap; }, 1.0},
         {"creep", "first_increment_s", "creep.first_increment_s", [](TestScheme& s) -> double& { return s.creep.first_increment_s; }, 1.0},
         {"creep", "increment_growth", "creep.increment_growth", [](TestScheme& s) -> double& { return s.creep.increment_growth; }, 1.0},
         {"creep", "max_increment_s", "creep.max_increment_s", [](TestScheme& s) -> double& { return s.creep.max_increment_s; }, 1.0},

@@ -133,6 +133,16 @@ TEST_CASE("static fatigue: exact update at fixed force, finite life t0 r^-n / (n
     CHECK(life08 / life == Approx(std::pow(9.0 / 8.0, 20.0)));
     // Loads above the strength fatigue at the rate of a grain at its strength (r capped).
     CHECK(fatigue_damage_update(0.0, 1.5, 10.0, p) == Approx(fatigue_damage_update(0.0, 1.0, 10.0, p)));
+    // With a higher cap (creep.grain_fatigue_ratio_cap), a grain loaded beyond its intact
+    // strength (a shared broken neighbour's load on a hardened contact) fatigues at its own
+    // ratio, up to the cap: (1.5)^20 ~ 3,300 times the rate at the strength.
+    GrainFatigueParams shared = p;
+    shared.ratio_cap = 2.0;
+    const double dt_tiny = 1e-6;
+    CHECK(fatigue_damage_update(0.0, 1.5, dt_tiny, shared) ==
+          Approx(std::pow(1.5, p.exponent) * fatigue_damage_update(0.0, 1.0, dt_tiny, shared)).epsilon(1e-3));
+    CHECK(fatigue_damage_update(0.0, 3.0, dt_tiny, shared) == Approx(fatigue_damage_update(0.0, 2.0, dt_tiny, shared)));
+    CHECK(fatigue_time_to_failure(0.0, 1.5, shared) == Approx(fatigue_time_to_failure(0.0, 1.0, p) * std::pow(1.5, -p.exponent)));
     // Off (t0 = 0): no damage.
     GrainFatigueParams off;
     CHECK(fatigue_damage_update(0.2, 0.99, 1e9, off) == 0.2);
@@ -182,6 +192,43 @@ TEST_CASE("static fatigue of grains: peak contact force, weaker grain first, the
     CHECK(d2[1] == 0.0);
 }
 
+TEST_CASE("static fatigue: time to the next failure is the exact update's inverse", "[crushing][fatigue]") {
+    GrainFatigueParams p;
+    p.time_s = 1.0e6;
+    p.exponent = 20.0;
+    // A fresh grain at its strength fails after t0 (1 - 0.1^(n+1)) / (n + 1) ~ t0 / 21.
+    const double t1 = fatigue_time_to_failure(0.0, 1.0, p);
+    CHECK(t1 == Approx(p.time_s / 21.0).epsilon(1e-12));
+    // The update reaches D_max just past it and not just before it, from any damage.
+    for (double d0 : {0.0, 0.3, 0.85}) {
+        for (double r : {1.0, 0.93}) {
+            const double t = fatigue_time_to_failure(d0, r, p);
+            INFO("D " << d0 << " r " << r);
+            CHECK(fatigue_damage_update(d0, r, t * (1.0 + 1e-6), p) == kFatigueDamageMax);
+            CHECK(fatigue_damage_update(d0, r, t * (1.0 - 1e-3), p) < kFatigueDamageMax);
+        }
+    }
+    // A partly damaged grain fails sooner; a failed grain at once; an unloaded one never.
+    CHECK(fatigue_time_to_failure(0.3, 1.0, p) < t1);
+    CHECK(fatigue_time_to_failure(kFatigueDamageMax, 1.0, p) == 0.0);
+    CHECK(std::isinf(fatigue_time_to_failure(0.0, 0.0, p)));
+    CHECK(std::isinf(fatigue_time_to_failure(0.0, 1.0, GrainFatigueParams{})));
+    // The grains' summary reports the shortest such time among the grains not yet failed:
+    // the piece of a creep increment ends there (the load of a broken grain is passed on
+    // before the others fatigue further).
+    ContactStore c;
+    c.resize(2);
+    for (int k = 0; k < 2; ++k) c.reset_history(k);
+    c.i[0] = 0; c.j[0] = 1; c.active[0] = 1; c.normal_force[0] = 95.0;
+    c.i[1] = 1; c.j[1] = 2; c.active[1] = 1; c.normal_force[1] = 50.0;
+    const std::vector<double> f_c = {100.0, 200.0, 40.0};
+    std::vector<double> damage = {0.0, 0.0, kFatigueDamageMax}, f_now = f_c;
+    const FatigueSummary s = fatigue_grains(c, 3, f_c, damage, f_now, 1.0, p, false);
+    CHECK(s.next_failure_s == Approx(fatigue_time_to_failure(0.0, 0.95, p)));  // grain 0; grain 2 already failed
+    CHECK(s.grains_at_strength == 1);  // grain 2: 50 N on a 40 N grain
+    CHECK(s.grains_failed == 1);
+}
+
 TEST_CASE("static fatigue scheme fields: bad values are named", "[crushing][fatigue]") {
     protocol::TestScheme s;
     s.creep.grain_fatigue_time_s = -1.0;
@@ -190,5 +237,8 @@ TEST_CASE("static fatigue scheme fields: bad values are named", "[crushing][fati
     s.creep.grain_fatigue_exponent = 0.5;
     CHECK_THROWS_WITH(s.validate(), Catch::Contains("creep.grain_fatigue_exponent"));
     s.creep.grain_fatigue_exponent = 20.0;
+    s.creep.grain_fatigue_ratio_cap = 0.9;
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("creep.grain_fatigue_ratio_cap"));
+    s.creep.grain_fatigue_ratio_cap = 1.0;
     CHECK_NOTHROW(s.validate());
 }
