@@ -228,8 +228,10 @@ TEST_CASE("DEM data (other packing pair): control", "[diagnose][dem][.dem-seeds]
 // lab 7 / model 11 the base calibration drifts to friction 0.12 and modulus 800 MPa (a Latin
 // hypercube point that really is the better base model for crushed data: 31.5 % against
 // 42.9 % at the prior), and the best crushing fit (20.7 %, delta BIC -5.5) is from there:
-// the prior with crushing fits this lab packing worse (29.0 %). Multi-start candidate fits
-// did not change it (docs/diagnosis.md 8.9). Un-hide it when the loop passes it.
+// the prior with crushing 1 fits this lab packing worse (29.0 %; the truth 0.75: 14.2 %).
+// Neither multi-start candidate fits
+// nor a line search along the effect changed it (docs/diagnosis.md 8.9). Un-hide it when
+// the loop passes it.
 TEST_CASE("DEM data (packing pair 7/11): hidden grain crushing", "[diagnose][dem][.dem-crush-gap]") {
     CaseSpec cs = crushing_case({{Effect::BondDegradation, {0.75}}});
     cs.lab_seed = 7, cs.model_seed = 11;
