@@ -6,7 +6,7 @@
 // resistance (100 kPa) and grain crushing (50 and 200 kPa). A control dataset (same noise
 // and seating, no effect) must not be given a physical effect, with every physical
 // candidate (rolling resistance, grain breakage) in competition.
-// CI budget: 14-19 reduced runs per case (2 workers); figures and why in
+// CI budget: 15-22 reduced runs per case (2 workers); figures and why in
 // docs/diagnosis.md section 8.
 #include <catch2/catch.hpp>
 
