@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "engine/protocol/triaxial_test.hpp"
+#include "tests/support/reduced_specimen.hpp"
 
 using triax::protocol::TestScheme;
 
@@ -59,15 +60,9 @@ int main(int argc, char** argv) {
     const double eps_max = (argc > 3 ? std::atof(argv[3]) : 5.0) * 1e-2;
     const std::string which = argc > 4 ? argv[4] : "all";
 
-    TestScheme base;
-    base.name = "reduced";
-    base.specimen.diameter_m = 0.05;
-    base.specimen.height_m = 0.1;
-    base.gradation.r_min_m = r_min;
-    base.gradation.radius_ratio = 3.0;
-    base.loading.max_axial_strain = eps_max;
+    // The specimen of the diagnosis's DEM tests (one definition for both).
+    TestScheme base = triax::testing::reduced_scheme(r_min, eps_max, 11);
     base.loading.confining_pressure_pa = s3;
-    base.seed = 11;
 
     std::vector<Case> cases;
     if (which == "all" || which == "seeds")

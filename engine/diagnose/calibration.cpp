@@ -160,13 +160,44 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
     static const double kDamping[] = {1e-3, 1e-1, 1.0, 10.0};
     int failed_batches = 0;  // consecutive batches without improvement
     int compass = 0;         // next compass probe: axis compass/2 % ka, sign by parity
+    // Separation of two runs in the max-norm over the stepped coordinates.
+    auto apart = [&](std::size_t a, std::size_t b) {
+        double d = 0.0;
+        for (Eigen::Index j : active)
+            d = std::max(d, std::abs(res.points[a][static_cast<std::size_t>(j)] - res.points[b][static_cast<std::size_t>(j)]));
+        return d;
+    };
     while (res.runs < budget && radius > 1e-3 && std::isfinite(res.point_rss[best])) {
-        const Eigen::VectorXd c = as_eigen(res.points[best]);
-        const Eigen::VectorXd rc = as_eigen(residuals[best]);
-        const Eigen::MatrixXd J = local_jacobian(res, c, residuals[best], std::max(radius, 0.05), active);
-        const Eigen::MatrixXd jtj = J.transpose() * J;
-        const Eigen::VectorXd g = J.transpose() * rc;
-        const double scale = std::max(jtj.diagonal().maxCoeff(), 1e-12);
+        // Starts of this batch's steps: the best run, then the best run of each other basin.
+        std::vector<std::size_t> starts{best};
+        if (st.local_starts > 1) {
+            std::vector<std::size_t> order(res.points.size());
+            std::iota(order.begin(), order.end(), std::size_t{0});
+            std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return res.point_rss[a] < res.point_rss[b]; });
+            for (std::size_t i : order) {
+                if (static_cast<int>(starts.size()) >= st.local_starts) break;
+                if (!std::isfinite(res.point_rss[i])) break;
+                if (std::all_of(starts.begin(), starts.end(), [&](std::size_t s) { return apart(i, s) >= st.separation; }))
+                    starts.push_back(i);
+            }
+        }
+        struct Local {
+            Eigen::VectorXd c, rc, g;
+            Eigen::MatrixXd jtj;
+            double scale = 1.0;
+        };
+        std::vector<Local> locals;
+        for (std::size_t s : starts) {
+            Local l;
+            l.c = as_eigen(res.points[s]);
+            l.rc = as_eigen(residuals[s]);
+            const Eigen::MatrixXd J = local_jacobian(res, l.c, residuals[s], std::max(radius, 0.05), active);
+            l.jtj = J.transpose() * J;
+            l.g = J.transpose() * l.rc;
+            l.scale = std::max(l.jtj.diagonal().maxCoeff(), 1e-12);
+            locals.push_back(std::move(l));
+        }
+        const Eigen::VectorXd c = locals.front().c;
         std::vector<Eigen::VectorXd> batch;
         const std::size_t want = std::min<std::size_t>(batch_size, static_cast<std::size_t>(budget - res.runs));
         // After a failed batch, half of the batch (at least one run every other batch when
@@ -175,7 +206,6 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
         if (failed_batches > 0) probes = want >= 2 ? want / 2 : (failed_batches % 2 == 1 ? 1 : 0);
         const std::size_t steps = want - probes;
         auto differs = [&](const Eigen::VectorXd& p) {
-            if ((p - c).norm() < 1e-9) return false;
             for (const auto& q : res.points)
                 if ((as_eigen(q) - p).norm() < 1e-9) return false;  // already run
             for (const auto& q : batch)
@@ -183,19 +213,22 @@ CalibrationResult calibrate(const BatchEvaluator& evaluate, const CalibrationSet
             return true;
         };
         for (std::size_t b = 0; b < steps; ++b) {
-            Eigen::MatrixXd a = jtj;
-            a.diagonal().array() += kDamping[b % 4] * (1.0 + static_cast<double>(b / 4)) * scale * 1e-2 +
-                                    1e-9 * scale;
-            Eigen::VectorXd step = -a.ldlt().solve(g);
+            // Steps go round the starts; each start's steps take the damping values in turn.
+            const Local& l = locals[b % locals.size()];
+            const std::size_t d = b / locals.size();
+            Eigen::MatrixXd a = l.jtj;
+            a.diagonal().array() += kDamping[d % 4] * (1.0 + static_cast<double>(d / 4)) * l.scale * 1e-2 +
+                                    1e-9 * l.scale;
+            Eigen::VectorXd step = -a.ldlt().solve(l.g);
             const double len = step.lpNorm<Eigen::Infinity>();
             if (len > radius) step *= radius / len;
-            Eigen::VectorXd p = c;
+            Eigen::VectorXd p = l.c;
             for (Eigen::Index j = 0; j < ka; ++j) p[active[static_cast<std::size_t>(j)]] += step[j];
             p = clamp_unit(p);
             if (!differs(p)) {  // stuck on the box boundary or repeated: probe a random direction
                 std::mt19937_64 rng(st.seed + static_cast<std::uint64_t>(res.runs) * 7919u + b);
                 std::normal_distribution<double> nd;
-                for (Eigen::Index j : active) p[j] = c[j] + 0.5 * radius * nd(rng);
+                for (Eigen::Index j : active) p[j] = l.c[j] + 0.5 * radius * nd(rng);
                 p = clamp_unit(p);
             }
             batch.push_back(p);

@@ -19,6 +19,10 @@
 //  evaluator writes its optimum into the point; the surrogate and the steps act on the
 //  other coordinates only (variable projection), so an artefact cannot pull the
 //  physical parameters away to mimic it.
+//     With local_starts > 1 the steps of a batch go out from the best runs of several
+//     separated basins (multi-start): on DEM data the best run of a small design can sit in
+//     a basin where the base parameters mimic a missing effect, and a better basin found by
+//     a probe would otherwise get no step while it is second (docs/diagnosis.md 8.9).
 //  4. Uncertainty: Cov(u) = s^2 (J^T J)^-1 (n / n_eff), s^2 = RSS / (n - k), mapped to
 //     parameter units by the derivative of the unit-cube map; the n / n_eff factor
 //     accounts for correlated readings along a curve.
@@ -51,6 +55,12 @@ struct CalibrationSettings {
     bool axial_design = false;
     // Further design points chosen by the caller (run with the start point).
     std::vector<UnitPoint> extra_design;
+    // Multi-start refinement: each batch's surrogate steps are spread over the best run and
+    // the best runs of up to local_starts - 1 other basins (runs at least `separation` away,
+    // in the max-norm over the stepped coordinates, from every better start), each with its
+    // own local surrogate. 1: the best run only.
+    int local_starts = 1;
+    double separation = 0.25;
     // Coordinates the evaluator optimises itself (empty: none); not stepped, not probed.
     std::vector<bool> profiled;
     // Runs already made on the same parameter space (a previous calibration of the same

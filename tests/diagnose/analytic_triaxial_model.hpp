@@ -19,6 +19,13 @@ struct AnalyticConditions {
     std::vector<double> stress_levels{0.1, 0.4, 0.6, 0.8};
     double max_strain = 0.16;
     double creep_duration_s = 3000.0 * 60.0;
+    // Bond degradation as the DEM model offers it with creep curves of a bonded specimen
+    // (dem_forward_model.hpp): two parameters, both off at 0: the breakage index (shear and
+    // creep) and an extra bond-damage rate that acts only in the creep holds. Its creep
+    // signature here: damage accumulating over the hold speeds the creep up late in the
+    // stage (t^2) and steeply with the stress level (S^4), where contact viscosity adds a
+    // saturating primary part (1 - exp(-t/tau)) growing as S^2.
+    bool creep_bond_damage = false;
 };
 
 class AnalyticTriaxialModel final : public ForwardModel {
@@ -35,7 +42,11 @@ public:
     std::vector<ParameterSpec> effect_parameters(Effect e) const override {
         switch (e) {
             case Effect::RollingResistance: return {{"rolling_friction", "-", 0.0, 0.4, 0.1, false}};
-            case Effect::BondDegradation: return {{"breakage_index", "-", 0.0, 2.0, 0.5, false}};
+            case Effect::BondDegradation:
+                if (c_.creep_bond_damage)
+                    return {{"breakage_index", "-", 0.0, 2.0, 0.5, false, true},
+                            {"extra_bond_damage_rate", "-", 0.0, 9.0, 1.0, false, true}};
+                return {{"breakage_index", "-", 0.0, 2.0, 0.5, false}};
             case Effect::ContactCreepViscosity:
                 return {{"viscous_strain", "-", 0.0, 0.01, 0.002, false},
                         {"viscous_time", "s", 100.0, 1e5, 3000.0, true}};
@@ -46,10 +57,10 @@ public:
 
     LabDataset simulate(const ModelPoint& p, std::uint64_t) const override {
         if (p.base.size() != 4) throw std::invalid_argument("analytic model takes 4 base parameters");
-        double mu_r = 0, breakage = 0, visc_a = 0, visc_tau = 1, cohesion = 0;
+        double mu_r = 0, breakage = 0, bond_damage = 0, visc_a = 0, visc_tau = 1, cohesion = 0;
         for (const auto& [e, v] : p.effects) {
             if (e == Effect::RollingResistance) mu_r = v.at(0);
-            if (e == Effect::BondDegradation) breakage = v.at(0);
+            if (e == Effect::BondDegradation) breakage = v.at(0), bond_damage = v.size() > 1 ? v[1] : 0.0;
             if (e == Effect::ContactCreepViscosity) visc_a = v.at(0), visc_tau = v.at(1);
             if (e == Effect::MoistureBonding) cohesion = v.at(0);
         }
@@ -104,7 +115,9 @@ public:
                 const double c_eff = c_alpha * S * (1.0 + breakage * rel * S) / (1.0 + 3.0 * mu_r);
                 for (int i = 0; i <= 120; ++i) {
                     const double t = i == 0 ? 0.0 : std::pow(10.0, std::log10(c_.creep_duration_s) * i / 120.0);
-                    const double eps = inst + c_eff * std::log1p(t / 60.0) + visc_a * S * S * (1.0 - std::exp(-t / visc_tau));
+                    const double tr = t / c_.creep_duration_s;
+                    const double eps = inst + c_eff * std::log1p(t / 60.0) + visc_a * S * S * (1.0 - std::exp(-t / visc_tau)) +
+                                       2e-3 * bond_damage * std::pow(S, 4) * tr * tr;
                     cr.time_s.push_back(t);
                     cr.axial_strain.push_back(eps);
                     cr.axial_deformation_m.push_back(eps * 0.2);

@@ -2,12 +2,13 @@
 // Fixtures shared by the diagnosis tests: lab curves built by hand (shear, creep), the
 // conditions-only datasets a DemForwardModel is built on (a curve per confining pressure
 // whose readings only fix the pressure and the strain range), and the reduced DEM
-// specimen of the CI cases.
+// specimen of the CI cases (tests/support/reduced_specimen.hpp).
 #include <cstdint>
 #include <vector>
 
 #include "engine/diagnose/lab_data.hpp"
 #include "engine/protocol/test_scheme.hpp"
+#include "tests/support/reduced_specimen.hpp"
 
 namespace triax::diagnose::testing {
 
@@ -42,18 +43,7 @@ inline LabDataset shear_conditions(const std::vector<double>& confining_pa, doub
     return lab;
 }
 
-// Reduced DEM specimen 50 x 100 mm, radius ratio 3 (about 200 grains at r_min 2.5 mm,
-// 400 at 2.0 mm), unbreakable grains (the scheme default), sheared to max_strain.
-inline protocol::TestScheme reduced_scheme(double r_min_m, double max_strain, std::uint64_t seed) {
-    protocol::TestScheme s;
-    s.name = "reduced";
-    s.specimen.diameter_m = 0.05;
-    s.specimen.height_m = 0.1;
-    s.gradation.r_min_m = r_min_m;
-    s.gradation.radius_ratio = 3.0;
-    s.loading.max_axial_strain = max_strain;
-    s.seed = seed;
-    return s;
-}
+// The reduced DEM specimen of the CI cases (shared with bench/diagnose_dem_noise.cpp).
+using triax::testing::reduced_scheme;
 
 }  // namespace triax::diagnose::testing
