@@ -319,6 +319,52 @@ private:
 
     double score_signature(const Fit& current, const std::vector<double>& with_effect) const;
 
+    // Line search along a one-parameter effect: the candidate fit then has the effect at
+    // off, nominal and further on two lines (the current base, and the prior when
+    // `with_prior_line`); the minimum of a parabola of the RSS through each line's three runs
+    // is returned as a further probe. The response can be steep between them: on the DEM
+    // crushing case (pair 7/11) the prior with crushability 1 fitted at 29.0 %, the truth
+    // 0.75 at 14.2 %, and the parabola through 0 / 1 / 1.8 pointed at 0.71
+    // (docs/diagnosis.md 8.9). `probes` is {further, restart, [at_prior]} as the caller
+    // builds them; every run here is cached for the fit that follows.
+    std::vector<UnitPoint> line_search_probes(const Variant& v, const UnitPoint& start,
+                                              const std::vector<UnitPoint>& probes, bool with_prior_line) {
+        std::vector<UnitPoint> line = probes;
+        line.push_back(start);
+        const auto r = evaluate(v, line);
+        const std::size_t q = start.size() - 1;
+        auto rss_off = [&](const UnitPoint& u) {
+            UnitPoint o = u;
+            o[q] = 0.0;
+            std::vector<UnitPoint> b{o};
+            const auto ro = evaluate(v, b);  // the model without the effect: cached
+            return ro[0].empty() ? std::numeric_limits<double>::infinity() : residual_sum_of_squares(ro[0]);
+        };
+        auto rss_of = [&](std::size_t i) {
+            return r[i].empty() ? std::numeric_limits<double>::infinity() : residual_sum_of_squares(r[i]);
+        };
+        // (index of nominal, index of further) on each line: current base, prior.
+        std::vector<std::pair<std::size_t, std::size_t>> lines{{line.size() - 1, 0}};
+        if (with_prior_line) lines.emplace_back(2, 1);
+        std::vector<UnitPoint> out;
+        for (const auto& [i_nom, i_far] : lines) {
+            const double x0 = 0.0, x1 = line[i_nom][q], x2 = line[i_far][q];
+            const double f0 = rss_off(line[i_nom]), f1 = rss_of(i_nom), f2 = rss_of(i_far);
+            if (!std::isfinite(f0 + f1 + f2) || x1 <= x0 || x2 <= x1) continue;
+            // Divided differences: f = f0 + d1 x + a x (x - x1).
+            const double d1 = (f1 - f0) / (x1 - x0), d2 = (f2 - f1) / (x2 - x1);
+            const double a = (d2 - d1) / (x2 - x0);
+            if (a <= 0.0) continue;
+            const double xm = std::clamp(0.5 * (x1 - d1 / a), 0.5 * kMinimumSwitch, 1.0);
+            if (std::abs(xm - x1) < 0.03 || std::abs(xm - x2) < 0.03) continue;
+            UnitPoint p = line[i_nom];
+            p[q] = xm;
+            out.push_back(std::move(p));
+        }
+        return out;
+    }
+
+
     // Points at which effect e's signature is taken at `current`: its parameters at their
     // nominal; for an effect with several parameters each off at its lower bound (grain
     // breakage with creep curves of a bonded specimen: crushability and extra bond damage),
@@ -577,46 +623,10 @@ DiagnosisReport Loop::run() {
                 std::copy(prior.begin(), prior.end(), at_prior.begin());
                 std::vector<UnitPoint> probes{further, restart};
                 if (at_prior != start) probes.push_back(at_prior);
-                // Line search along a one-parameter effect: the loop then has the effect at
-                // off, nominal and further on two lines (the current base and the prior); the
-                // minimum of a parabola of the RSS through each line's three runs is probed
-                // too. The response can be steep between them: on the DEM crushing case
-                // (pair 7/11) the prior with crushability 1 fitted at 29.0 %, the truth 0.75
-                // at 14.2 %, and the parabola through 0 / 1 / 1.8 pointed at 0.71
-                // (docs/diagnosis.md 8.9).
+                // Line search along a one-parameter effect (line_search_probes).
                 if (especs.size() == 1) {
-                    std::vector<UnitPoint> line = probes;
-                    line.push_back(start);
-                    const auto r = evaluate(v, line);
-                    const std::size_t q = start.size() - 1;
-                    auto rss_off = [&](const UnitPoint& u) {
-                        UnitPoint o = u;
-                        o[q] = 0.0;
-                        std::vector<UnitPoint> b{o};
-                        const auto ro = evaluate(v, b);  // the model without the effect: cached
-                        return ro[0].empty() ? std::numeric_limits<double>::infinity() : residual_sum_of_squares(ro[0]);
-                    };
-                    auto rss_of = [&](std::size_t i) {
-                        return r[i].empty() ? std::numeric_limits<double>::infinity() : residual_sum_of_squares(r[i]);
-                    };
-                    // (index of nominal, index of further) on each line: current base, prior.
-                    const std::size_t n_line = line.size();
-                    std::vector<std::pair<std::size_t, std::size_t>> lines{{n_line - 1, 0}};
-                    if (at_prior != start) lines.emplace_back(2, 1);
-                    for (const auto& [i_nom, i_far] : lines) {
-                        const double x0 = 0.0, x1 = line[i_nom][q], x2 = line[i_far][q];
-                        const double f0 = rss_off(line[i_nom]), f1 = rss_of(i_nom), f2 = rss_of(i_far);
-                        if (!std::isfinite(f0 + f1 + f2) || x1 <= x0 || x2 <= x1) continue;
-                        // Divided differences: f = f0 + d1 x + a x (x - x1).
-                        const double d1 = (f1 - f0) / (x1 - x0), d2 = (f2 - f1) / (x2 - x1);
-                        const double a = (d2 - d1) / (x2 - x0);
-                        if (a <= 0.0) continue;
-                        const double xm = std::clamp(0.5 * (x1 - d1 / a), 0.5 * kMinimumSwitch, 1.0);
-                        if (std::abs(xm - x1) < 0.03 || std::abs(xm - x2) < 0.03) continue;
-                        UnitPoint p = line[i_nom];
-                        p[q] = xm;
-                        probes.push_back(p);
-                    }
+                    const auto more = line_search_probes(v, start, probes, at_prior != start);
+                    probes.insert(probes.end(), more.begin(), more.end());
                 }
                 fits.push_back(fit(v, start, 0, opt_.refine_runs, false, &h, std::move(probes), 1));
             } else {
