@@ -183,9 +183,10 @@ inline FatigueSummary fatigue_grains(const ContactStore& c, int n_grains, const 
     grain_peak_forces(c, n_grains, f_max);
     for (int i = 0; i < n_grains; ++i) {
         const double r = f_max[i] / crush_force[i];
-        if (damage[i] < kFatigueDamageMax) sum.max_ratio = std::max(sum.max_ratio, r);
-        if (damage[i] < kFatigueDamageMax)
+        if (damage[i] < kFatigueDamageMax) {
+            sum.max_ratio = std::max(sum.max_ratio, r);
             sum.next_failure_s = std::min(sum.next_failure_s, fatigue_time_to_failure(damage[i], r, p));
+        }
         const double d_new = fatigue_damage_update(damage[i], r, dt, p);
         const double inc = d_new - damage[i];
         if (f_max[i] >= crush_force[i]) ++sum.grains_at_strength;
