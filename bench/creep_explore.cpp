@@ -59,7 +59,8 @@ int main(int argc, char** argv) {
                 if (b0 < 0.0) b0 = e.breakage_j;
                 b1 = e.breakage_j;
             }
-        std::printf("  breakage %.3g mJ, failed grains %d\n", 1e3 * (b1 - std::max(b0, 0.0)), st.failed_grains);
+        std::printf("  breakage %.3g mJ, failed grains %d (at loading %d)\n", 1e3 * (b1 - std::max(b0, 0.0)), st.failed_grains,
+                    st.instant_failed_grains);
     }
     // The creep holds per stage: loading step (ramp) and increments (cycles, at max).
     for (std::size_t k = 0; k < holds.size();) {

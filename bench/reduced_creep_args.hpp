@@ -2,7 +2,8 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf rcap seed dmm rmin_mm
+// Keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf rcap drive(0 capped peak
+//       force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
 //       crushable grains) s3(kPa) hours verbose; creep holds (engine/protocol/creep_hold.hpp):
 //       rest (1: the convention at rest, HoldOptions::at_rest, with the gain and bound given)
@@ -70,6 +71,9 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "t0") s.creep.grain_fatigue_time_s = v;
     else if (k == "nf") s.creep.grain_fatigue_exponent = v;
     else if (k == "rcap") s.creep.grain_fatigue_ratio_cap = v;
+    else if (k == "drive") s.creep.grain_fatigue_drive = static_cast<protocol::GrainFatigueDrive>(static_cast<int>(v));
+    else if (k == "inst") s.creep.grain_fatigue_instant_life_s = v;
+    else if (k == "spread") s.creep.grain_fatigue_strength_spread = v != 0;
     else if (k == "crush") { if (v != 0) s.micro = protocol::paper_group("C").micro; }
     else if (k == "hours") a.hours = v;
     else if (k == "seed") s.seed = static_cast<std::uint64_t>(v);

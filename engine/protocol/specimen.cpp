@@ -134,6 +134,7 @@ Specimen::Specimen(const Specimen& o)
       crush_force_(o.crush_force_),
       fatigue_damage_(o.fatigue_damage_),
       crush_force_now_(o.crush_force_now_),
+      fatigue_life_scale_(o.fatigue_life_scale_),
       crushing_on_(o.crushing_on_),
       crushing_events_(o.crushing_events_) {}
 
@@ -181,11 +182,39 @@ void Specimen::enable_crushing() {
     crushing_on_ = !crush_force_.empty();
     fatigue_damage_.assign(crush_force_.size(), 0.0);
     crush_force_now_ = crush_force_;
+    // Brittle lifetime law t_f = B S^(n-2) sigma^-n: at a fixed ratio r = sigma / S the life
+    // goes as S^-2, so a grain's t0 scales with (S_i / sigma0)^-2 (no new random numbers).
+    fatigue_life_scale_.assign(crush_force_.size(), 1.0);
+    const double s_ref = scheme_.micro.crushing_strength_pa;
+    for (std::size_t i = 0; i < crush_force_.size() && s_ref > 0.0; ++i) {
+        const double d = 2.0 * world_.particles().radius[i];
+        fatigue_life_scale_[i] = triax::fatigue_life_scale(crush_force_[i] / (d * d), s_ref);
+    }
 }
+
+namespace {
+// Each grain's drive ratio for the fatigue law p (grain_crushing.hpp).
+std::vector<double> drive_ratios(const World& w, int n_grains, const std::vector<double>& f_c, const GrainFatigueParams& p) {
+    std::vector<double> ratio;
+    grain_drive_ratios(w.contacts(), &w.wall_contacts(), &w.particles(), n_grains, f_c, p.drive, ratio);
+    return ratio;
+}
+}  // namespace
 
 FatigueSummary Specimen::advance_fatigue(double dt, const GrainFatigueParams& p, bool apply) {
     if (!crushing_on_) return {};
-    return fatigue_grains(world_.contacts(), soil_count_, crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
+    if (p.drive == FatigueDrive::CappedPeakForce && !p.strength_spread)  // the session-5 law, as it was
+        return fatigue_grains(world_.contacts(), soil_count_, crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
+    if (!p.enabled()) return {};
+    return fatigue_grains(drive_ratios(world_, soil_count_, crush_force_, p), p.strength_spread ? &fatigue_life_scale_ : nullptr,
+                          crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
+}
+
+long Specimen::fail_short_lived_grains(const GrainFatigueParams& p) {
+    if (!crushing_on_ || !p.enabled() || p.instant_life_s <= 0.0) return 0;
+    return triax::fail_short_lived_grains(drive_ratios(world_, soil_count_, crush_force_, p),
+                                          p.strength_spread ? &fatigue_life_scale_ : nullptr, crush_force_, fatigue_damage_,
+                                          crush_force_now_, p);
 }
 
 long Specimen::install_soil_bonds() {

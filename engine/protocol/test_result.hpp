@@ -40,6 +40,7 @@ struct CreepStageResult {
     bool converged = false;              // creep rate decays (not accelerating) at the end
     bool accelerating = false;           // tertiary creep detected late in the stage
     int failed_grains = 0;               // grains broken by static fatigue (D = D_max) by the stage end, cumulative
+    int instant_failed_grains = 0;       // of them, broken at once at the stage's loading step (instant crushing)
 };
 
 // One sample of the energy ledger (cumulative, J).

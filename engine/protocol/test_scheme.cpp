@@ -58,6 +58,8 @@ void TestScheme::validate() const {
             "must be in [1, 100]");
     require(creep.grain_fatigue_ratio_cap >= 1.0 && creep.grain_fatigue_ratio_cap <= 10.0, "creep.grain_fatigue_ratio_cap",
             "must be in [1, 10]");
+    require(creep.grain_fatigue_instant_life_s >= 0.0 && creep.grain_fatigue_instant_life_s <= 3600.0,
+            "creep.grain_fatigue_instant_life_s", "must be in [0, 3600] s (0 = off)");
     require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,
             "creep.max_relaxation_per_increment", "must be in (0, 1]");
     require(creep.first_increment_s > 0.0, "creep.first_increment_s", "must be > 0");

@@ -75,6 +75,9 @@ struct MicroParameters {
 // Time-dependent contact mechanism (docs/creep.md): rate-process delayed slip at the
 // frictional contacts with asperity wear (slip weakening), plus stress corrosion of the
 // contact bonds.
+// Drive of the grains' static fatigue (GrainFatigueParams::drive in grain_crushing.hpp).
+enum class GrainFatigueDrive { CappedPeakForce, PeakForce, GrainStress };
+
 struct CreepLawParameters {
     // Rate process: slip rate v = v0 * exp(-dE/kT) * sinh(f / f_ref) applied to the
     // mobilised friction ratio f = |Fs| / (mu Fn). Lumped here as v = A sinh(beta f).
@@ -114,6 +117,16 @@ struct CreepLawParameters {
     // strength; > 1: at F/F_c (McDowell's characteristic stress F/d^2 grows with F), so a
     // grain that takes a broken neighbour's load fatigues faster (fibre-bundle load sharing).
     double grain_fatigue_ratio_cap = 1.0;
+    // What drives a grain's fatigue (grain_crushing.hpp, docs/creep.md "Load-dependent
+    // fatigue drive"): its peak contact force capped at its strength (default, the law
+    // above), uncapped, or its splitting drive from the grain's average stress tensor,
+    // F_eq = (pi d^2 / 6)(sigma_1 - sigma_3), uncapped.
+    GrainFatigueDrive grain_fatigue_drive = GrainFatigueDrive::CappedPeakForce;
+    // Grains whose life at the present forces is shorter than this fail at once, in one
+    // relaxation, repeated while any remain (instantaneous crushing); 0 = off.
+    double grain_fatigue_instant_life_s = 0.0;
+    // Spread of lives from the brittle lifetime law: t0_i = t0 (S_i / sigma0)^-2.
+    bool grain_fatigue_strength_spread = false;
     // Physical-time scheduler.
     double first_increment_s = 1.0;        // first time increment of a creep stage
     double increment_growth = 1.25;        // geometric growth of increments

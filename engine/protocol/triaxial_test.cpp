@@ -266,6 +266,13 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         fatigue.time_s = vs > 0.0 ? scheme.creep.grain_fatigue_time_s / vs : 0.0;  // creep effect off: none
         fatigue.exponent = scheme.creep.grain_fatigue_exponent;
         fatigue.ratio_cap = scheme.creep.grain_fatigue_ratio_cap;
+        switch (scheme.creep.grain_fatigue_drive) {
+            case GrainFatigueDrive::CappedPeakForce: fatigue.drive = FatigueDrive::CappedPeakForce; break;
+            case GrainFatigueDrive::PeakForce: fatigue.drive = FatigueDrive::PeakForce; break;
+            case GrainFatigueDrive::GrainStress: fatigue.drive = FatigueDrive::GrainStress; break;
+        }
+        fatigue.instant_life_s = scheme.creep.grain_fatigue_instant_life_s;
+        fatigue.strength_spread = scheme.creep.grain_fatigue_strength_spread;
 
         const double hc = sp.height();  // reference height of the creep test
         const double z_top0 = sp.top_z();
@@ -307,6 +314,22 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             for (auto& r : rotation) r.setZero();
             last_sample_t = t;
         };
+        // Instantaneous crushing (fatigue.instant_life_s > 0): grains whose life at the present
+        // forces is shorter than that fail together, one relaxation passes their load on, and
+        // again while any remain. No physical time passes: it is part of the response to the
+        // load, not a step for the schedule to resolve (without it such grains stall the
+        // piece loop in ever shorter pieces). Returns the grains failed.
+        auto instant_crushing = [&](double q_target) {
+            long total = 0;
+            for (int round = 0; round < 200; ++round) {
+                const long m = sp.fail_short_lived_grains(fatigue);
+                if (m == 0) break;
+                total += m;
+                holder.hold(sigma3 + q_target, 100, 20000, &rotation, false);
+                ++res.creep_relaxations;
+            }
+            return total;
+        };
         double t_total = 0.0;
         for (int k = 0; k < n_stages; ++k) {
             const double S = scheme.loading.stress_levels[k];
@@ -328,6 +351,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             // previous stage); then the loading step: the instantaneous response.
             creep_law.age(w);
             holder.hold(sigma3 + q_target, 500, 200000, &rotation, true);
+            st.instant_failed_grains = static_cast<int>(instant_crushing(q_target));
             auto record = [&](double t_stage) {
                 const double d = z_top0 - sp.top_z();
                 CreepPoint cpnt{t_total + t_stage, d, d / hc};
@@ -348,6 +372,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 // the mechanical relaxation then follows the creep (increment convergence).
                 double left = dts[n];
                 while (left > 0.0) {
+                    instant_crushing(q_target);
                     double h = left;
                     // A grain fatigued to failure (D_max) within the piece ends it: the
                     // broken grain's load must move to its neighbours (relaxation) before

@@ -71,6 +71,7 @@ const std::vector<NumberField>& number_fields() {
         {"creep", "grain_fatigue_time_s", "creep.grain_fatigue_time_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_time_s; }, 1.0},
         {"creep", "grain_fatigue_exponent", "creep.grain_fatigue_exponent", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_exponent; }, 1.0},
         {"creep", "grain_fatigue_ratio_cap", "creep.grain_fatigue_ratio_cap", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_ratio_cap; }, 1.0},
+        {"creep", "grain_fatigue_instant_life_s", "creep.grain_fatigue_instant_life_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_instant_life_s; }, 1.0},
         {"creep", "first_increment_s", "creep.first_increment_s", [](TestScheme& s) -> double& { return s.creep.first_increment_s; }, 1.0},
         {"creep", "increment_growth", "creep.increment_growth", [](TestScheme& s) -> double& { return s.creep.increment_growth; }, 1.0},
         {"creep", "max_increment_s", "creep.max_increment_s", [](TestScheme& s) -> double& { return s.creep.max_increment_s; }, 1.0},
@@ -99,6 +100,7 @@ const std::vector<BoolField>& bool_fields() {
         {"effects", "moisture_bonding", [](TestScheme& s) -> bool& { return s.effects.moisture_bonding; }},
         {"effects", "seating_error", [](TestScheme& s) -> bool& { return s.effects.seating_error; }},
         {"effects", "membrane_compliance", [](TestScheme& s) -> bool& { return s.effects.membrane_compliance; }},
+        {"creep", "grain_fatigue_strength_spread", [](TestScheme& s) -> bool& { return s.creep.grain_fatigue_strength_spread; }},
     };
     return f;
 }
@@ -178,7 +180,8 @@ TestScheme scheme_from_json(const json& j) {
             for (const auto& f : number_fields()) known = known || (sec == f.section && k == f.key);
             for (const auto& f : bool_fields()) known = known || (sec == f.section && k == f.key);
             known = known || (sec == "gradation" && (k == "kind" || k == "sieve_curve")) ||
-                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition"));
+                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition")) ||
+                    (sec == "creep" && k == "grain_fatigue_drive");
             if (!known) throw SchemeError(ptr(sec, k), "unknown field");
         }
     }
@@ -228,6 +231,13 @@ TestScheme scheme_from_json(const json& j) {
             else throw SchemeError("/loading/stress_level_definition", "must be \"q_over_qf\" or \"eq1\"");
         }
     }
+    if (j.contains("creep") && j["creep"].contains("grain_fatigue_drive")) {
+        const auto& d = j["creep"]["grain_fatigue_drive"];
+        if (d == "capped_peak_force") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::CappedPeakForce;
+        else if (d == "peak_force") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::PeakForce;
+        else if (d == "grain_stress") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::GrainStress;
+        else throw SchemeError("/creep/grain_fatigue_drive", "must be \"capped_peak_force\", \"peak_force\" or \"grain_stress\"");
+    }
     try {
         s.validate();
     } catch (const InputError& e) {
@@ -259,6 +269,9 @@ json scheme_to_json(const TestScheme& s0) {
     j["loading"]["stage_durations_min"] = d;
     j["loading"]["stress_level_definition"] =
         s.loading.stress_level_definition == protocol::StressLevelDefinition::PaperEq1 ? "eq1" : "q_over_qf";
+    j["creep"]["grain_fatigue_drive"] = s.creep.grain_fatigue_drive == protocol::GrainFatigueDrive::GrainStress ? "grain_stress"
+                                        : s.creep.grain_fatigue_drive == protocol::GrainFatigueDrive::PeakForce ? "peak_force"
+                                                                                                               : "capped_peak_force";
     return j;
 }
 

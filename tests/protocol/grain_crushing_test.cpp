@@ -242,3 +242,165 @@ TEST_CASE("static fatigue scheme fields: bad values are named", "[crushing][fati
     s.creep.grain_fatigue_ratio_cap = 1.0;
     CHECK_NOTHROW(s.validate());
 }
+
+// ---- load-dependent fatigue options (session 7; docs/creep.md "Load-dependent fatigue drive")
+
+namespace {
+// A grain 0 of radius r at the origin with ball neighbours at the given unit directions
+// (at distance 2r), each pushing on it with the given compressive force: contact k between
+// grain 0 (i) and neighbour k + 1 (j), force_on_j = F n (n from 0 to the neighbour).
+struct Cluster {
+    ParticleArrays pa;
+    ContactStore c;
+    Cluster(double r, const std::vector<Vec3>& dirs, const std::vector<double>& forces) {
+        pa.add(Vec3::Zero(), r, 2600.0, 0);
+        for (const auto& d : dirs) pa.add(2.0 * r * d.normalized(), r, 2600.0, 0);
+        c.resize(dirs.size());
+        for (std::size_t k = 0; k < dirs.size(); ++k) {
+            c.reset_history(k);
+            c.i[k] = 0;
+            c.j[k] = static_cast<int>(k) + 1;
+            c.active[k] = 1;
+            c.normal_force[k] = forces[k];
+            c.force_on_j[k] = forces[k] * dirs[k].normalized();
+        }
+    }
+    double drive(int grain, FatigueDrive d, double f_c = 1.0) const {
+        std::vector<double> ratio;
+        const std::vector<double> fc(pa.size(), f_c);
+        grain_drive_ratios(c, nullptr, &pa, static_cast<int>(pa.size()), fc, d, ratio);
+        return ratio[static_cast<std::size_t>(grain)];
+    }
+};
+}  // namespace
+
+TEST_CASE("fatigue drive from the grain's stress: F/d^2 for a diametral pair, none under equal all-round load",
+          "[crushing][fatigue]") {
+    const double r = 0.005, F = 40.0;
+    const Vec3 x(1, 0, 0), y(0, 1, 0), z(0, 0, 1);
+    // Two opposite forces F: the equivalent diametral force is F (the Weibull strength's
+    // F/d^2 convention), the same as the peak contact force.
+    const Cluster pair(r, {z, -z}, {F, F});
+    CHECK(pair.drive(0, FatigueDrive::GrainStress) == Approx(F));
+    CHECK(pair.drive(0, FatigueDrive::PeakForce) == Approx(F));
+    // The same forces from six sides: no deviatoric load, no splitting drive, while the
+    // peak force (the session-5 law) still says "at F".
+    const Cluster iso(r, {x, -x, y, -y, z, -z}, {F, F, F, F, F, F});
+    CHECK(iso.drive(0, FatigueDrive::GrainStress) == Approx(0.0).margin(1e-9 * F));
+    CHECK(iso.drive(0, FatigueDrive::PeakForce) == Approx(F));
+    // Lateral confinement at F/2 halves it: sigma_1 - sigma_3 from F - F/2.
+    const Cluster conf(r, {x, -x, y, -y, z, -z}, {F / 2, F / 2, F / 2, F / 2, F, F});
+    CHECK(conf.drive(0, FatigueDrive::GrainStress) == Approx(F / 2));
+    // Any orientation: a pair along a tilted axis gives the same.
+    const Vec3 t = Vec3(1, 2, -0.5).normalized();
+    CHECK(Cluster(r, {t, -t}, {F, F}).drive(0, FatigueDrive::GrainStress) == Approx(F));
+    // Uncapped: the drive rises with the load (1.5 x the forces, 1.5 x the drive) for a grain
+    // already beyond its strength, where the capped law gives the same rate.
+    const Cluster more(r, {z, -z}, {1.5 * F, 1.5 * F});
+    CHECK(more.drive(0, FatigueDrive::GrainStress, F) == Approx(1.5));
+    GrainFatigueParams capped;
+    capped.time_s = 1.0e8;
+    GrainFatigueParams stress = capped;
+    stress.drive = FatigueDrive::GrainStress;
+    CHECK(fatigue_time_to_failure(0.0, 1.5, capped) == Approx(fatigue_time_to_failure(0.0, 1.0, capped)));
+    CHECK(fatigue_time_to_failure(0.0, 1.0, stress) / fatigue_time_to_failure(0.0, 1.5, stress) ==
+          Approx(std::pow(1.5, stress.exponent)));
+    // A platen contact counts like a ball: grain on a wall below, a ball above.
+    ParticleArrays pa;
+    pa.add(Vec3::Zero(), r, 2600.0, 0);
+    pa.add(Vec3(0, 0, 2 * r), r, 2600.0, 0);
+    ContactStore c;
+    c.resize(1);
+    c.reset_history(0);
+    c.i[0] = 0; c.j[0] = 1; c.active[0] = 1; c.normal_force[0] = F; c.force_on_j[0] = F * z;
+    WallContactStore w;
+    w.resize(1);
+    w.particle[0] = 0; w.wall[0] = 0; w.active[0] = 1;
+    w.contact_point[0] = Vec3(0, 0, -r);
+    w.force_on_particle[0] = F * z;
+    std::vector<double> ratio;
+    grain_drive_ratios(c, &w, &pa, 2, {F, F}, FatigueDrive::GrainStress, ratio);
+    CHECK(ratio[0] == Approx(1.0));
+    CHECK(ratio[1] == Approx(0.5));  // grain 1 touches grain 0 only (no reaction on its top)
+}
+
+TEST_CASE("instant crushing: grains whose life is shorter than the instant life fail at once, the others fatigue on",
+          "[crushing][fatigue]") {
+    GrainFatigueParams p;
+    p.time_s = 1.0e8;
+    p.exponent = 20.0;
+    p.drive = FatigueDrive::PeakForce;
+    p.instant_life_s = 1.0;
+    const std::vector<double> f_c = {10.0, 10.0, 10.0, 10.0};
+    // Lives t0 r^-20 (1 - 0.1^21) / 21: r = 2.5 -> 0.4 s, 2.0 -> 4.5 s, 1.0 -> 55 days; grain 3
+    // has failed already.
+    const std::vector<double> ratio = {2.5, 2.0, 1.0, 3.0};
+    std::vector<double> damage = {0.0, 0.0, 0.0, kFatigueDamageMax}, f_now = {10.0, 10.0, 10.0, 1.0};
+    CHECK(fatigue_time_to_failure(0.0, 2.5, p) < 1.0);
+    CHECK(fatigue_time_to_failure(0.0, 2.0, p) > 1.0);
+    CHECK(fail_short_lived_grains(ratio, nullptr, f_c, damage, f_now, p) == 1);
+    CHECK(damage[0] == kFatigueDamageMax);
+    CHECK(f_now[0] == Approx(10.0 * (1.0 - kFatigueDamageMax)));
+    CHECK(damage[1] == 0.0);
+    CHECK(damage[2] == 0.0);
+    // At the same forces nothing is left to fail at once; the next failure is grain 1's,
+    // a time step for the schedule.
+    CHECK(fail_short_lived_grains(ratio, nullptr, f_c, damage, f_now, p) == 0);
+    const FatigueSummary s = fatigue_grains(ratio, nullptr, f_c, damage, f_now, 0.5, p, false);
+    CHECK(s.next_failure_s == Approx(fatigue_time_to_failure(0.0, 2.0, p)));
+    // Off (instant life 0, the default): no grain fails at once, however short its life.
+    GrainFatigueParams off = p;
+    off.instant_life_s = 0.0;
+    std::vector<double> d2(4, 0.0), f2 = f_c;
+    CHECK(fail_short_lived_grains(ratio, nullptr, f_c, d2, f2, off) == 0);
+}
+
+TEST_CASE("strength spread of lives: brittle lifetime law t_f = B S^(n-2) sigma^-n", "[crushing][fatigue]") {
+    GrainFatigueParams p;
+    p.time_s = 1.0e7;
+    p.exponent = 20.0;
+    p.drive = FatigueDrive::PeakForce;
+    const double s_ref = 0.6e6;
+    // At the same ratio r a grain twice as strong lives a quarter as long ...
+    const double weak = fatigue_life_scale(0.6e6, s_ref), strong = fatigue_life_scale(1.2e6, s_ref);
+    CHECK(weak == Approx(1.0));
+    CHECK(strong == Approx(0.25));
+    CHECK(fatigue_time_to_failure(0.0, 0.9, p, strong) == Approx(0.25 * fatigue_time_to_failure(0.0, 0.9, p, weak)));
+    // ... but at the same stress sigma it lives 2^(n-2) times longer (ratio sigma / S halves).
+    const double sigma = 0.5e6;
+    const double t_weak = fatigue_time_to_failure(0.0, sigma / 0.6e6, p, weak);
+    const double t_strong = fatigue_time_to_failure(0.0, sigma / 1.2e6, p, strong);
+    CHECK(t_strong / t_weak == Approx(std::pow(2.0, p.exponent - 2.0)));
+    // The update and the time to failure use the same scaled t0.
+    const double t = fatigue_time_to_failure(0.2, 1.1, p, strong);
+    CHECK(fatigue_damage_update(0.2, 1.1, t * (1.0 + 1e-6), p, strong) == kFatigueDamageMax);
+    CHECK(fatigue_damage_update(0.2, 1.1, t * (1.0 - 1e-3), p, strong) < kFatigueDamageMax);
+}
+
+TEST_CASE("capped peak-force drive through the general path is the session-5 law", "[crushing][fatigue]") {
+    ContactStore c;
+    c.resize(2);
+    for (int k = 0; k < 2; ++k) c.reset_history(k);
+    c.i[0] = 0; c.j[0] = 1; c.active[0] = 1; c.normal_force[0] = 95.0;
+    c.i[1] = 1; c.j[1] = 2; c.active[1] = 1; c.normal_force[1] = 130.0;
+    const std::vector<double> f_c = {100.0, 200.0, 40.0};
+    GrainFatigueParams p;
+    p.time_s = 1.0e6;
+    std::vector<double> ratio;
+    grain_drive_ratios(c, nullptr, nullptr, 3, f_c, FatigueDrive::CappedPeakForce, ratio);
+    CHECK(ratio[2] == Approx(130.0 / 40.0));  // reported uncapped; the law caps it
+    std::vector<double> d1(3, 0.0), f1 = f_c, d2(3, 0.0), f2 = f_c;
+    const FatigueSummary a = fatigue_grains(c, 3, f_c, d1, f1, 3600.0, p);
+    const FatigueSummary b = fatigue_grains(ratio, nullptr, f_c, d2, f2, 3600.0, p);
+    for (int i = 0; i < 3; ++i) CHECK(d1[i] == d2[i]);
+    CHECK(a.next_failure_s == b.next_failure_s);
+    CHECK(d1[2] == Approx(fatigue_damage_update(0.0, 1.0, 3600.0, p)));
+}
+
+TEST_CASE("fatigue option fields: bad instant life is named", "[crushing][fatigue]") {
+    protocol::TestScheme s;
+    s.creep.grain_fatigue_instant_life_s = -1.0;
+    CHECK_THROWS_WITH(s.validate(), Catch::Contains("creep.grain_fatigue_instant_life_s"));
+    s.creep.grain_fatigue_instant_life_s = 1.0;
+    CHECK_NOTHROW(s.validate());
+}
