@@ -145,27 +145,35 @@ TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
 }
 
 // The creep test on crushable grains (the presets' micro-parameters) with static fatigue
-// of the grains (delayed crushing, docs/creep.md "Static fatigue of grains"), at the
-// candidate t0 = 1e6 s, n = 20. All four of the paper's regimes must come out on it.
+// of the grains (delayed crushing, docs/creep.md "Static fatigue of grains" and
+// "Load-dependent fatigue drive"), with the session-7 candidate: drive from the grain's
+// stress (uncapped), instantaneous crushing of lives below 1 s, lives spread by the
+// brittle lifetime law, t0 = 1e11 s, n = 20, in the paper's stage durations (about 2.5
+// days each: 10 days per group) with increments up to 2 h. All four of the paper's
+// regimes must come out on it.
 static const TestResult& crushable_creep_run() {
     static const TestResult r = [] {
         RunObserver none;
         TestScheme s = reduced(100e3, true);
-        s.creep.grain_fatigue_time_s = 1.0e6;
+        s.loading.stage_durations_s.assign(4, 60.0 * 3600.0);
+        s.creep.max_increment_s = 7200.0;
+        s.creep.grain_fatigue_time_s = 1.0e11;
         s.creep.grain_fatigue_exponent = 20.0;
+        s.creep.grain_fatigue_drive = GrainFatigueDrive::GrainStress;
+        s.creep.grain_fatigue_instant_life_s = 1.0;
+        s.creep.grain_fatigue_strength_spread = true;
         return run_triaxial_test(s, none, Phase::Creep);
     }();
     return r;
 }
 
 TEST_CASE("(3b) the paper's tertiary creep: S=0.8 accelerates late", "[.][paper-gap][protocol]") {
-    // Hidden: it does not pass, and passing it with this law would say nothing. The grains
-    // at their strength all fatigue on one clock (r capped at 1): they fail 13.2 h of creep
-    // time after the first stage began, i.e. 74 min into this schedule's S = 0.8 stage
-    // whatever its load (with 60-h stages, in S = 0.1); the S = 0.8 flag depends on
-    // whether that lands in the stage's last fifth (docs/creep.md, "The S = 0.8 burst is a
-    // fatigue clock"). On this 200-grain specimen the S = 0.4 / 0.6 flags also follow
-    // single avalanches.
+    // Hidden: it is not reproduced over seeds and specimens (docs/creep.md,
+    // "Load-dependent fatigue drive": the seed table). It passes on this seed (11), where at
+    // S = 0.8 the most loaded grain's damage runs away over two days (accelerating creep,
+    // then its failure at 53 h), and fails on seeds 12 and 13 (S = 0.8 converged; S = 0.6
+    // accelerating) and on the 70 mm specimen's three seeds (S = 0.8 converged): on 200-550
+    // grains the flags are one or two grains' lives, so one passing seed says nothing.
     const auto& r = crushable_creep_run();
     REQUIRE(r.creep_stages.size() == 4);
     CHECK(r.creep_stages[0].elastic_share >= 0.9);
@@ -175,6 +183,7 @@ TEST_CASE("(3b) the paper's tertiary creep: S=0.8 accelerates late", "[.][paper-
         CHECK_FALSE(r.creep_stages[k].accelerating);
     }
     CHECK(r.creep_stages[3].accelerating);
+    CHECK_FALSE(r.creep_stages[3].converged);
 }
 
 TEST_CASE("(4) share of a stage's creep reached in its first 30 min is reported", "[protocol][slow]") {
