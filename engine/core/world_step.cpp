@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <sstream>
 
 namespace triax {
@@ -51,8 +52,9 @@ struct ParticleSums {
     int cause = 0;
 };
 
-// One block of ball-ball slots: forces into the slots, energies into the block's sums.
-template <bool kRolling>
+// One block of ball-ball slots: forces into the slots, energies into the block's sums
+// (the springs' stored energy only when kStateEnergy: see StepState::state_energy).
+template <bool kRolling, bool kStateEnergy>
 ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vector<LinearContact::Params>& params,
                        double dt, long b) {
     const long ns = static_cast<long>(c.size());
@@ -98,7 +100,7 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
             LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k],
                                      c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
                                      c.asperity_wear[k]};
-            const LinearContact::Outcome o = LinearContact::evaluate<kRolling>(params[c.law[k]], kin, h);
+            const LinearContact::Outcome o = LinearContact::evaluate<kRolling, kStateEnergy>(params[c.law[k]], kin, h);
             sums.add(o);
             c.overlap[k] = kin.overlap;
             c.contact_point[k] = xc;
@@ -124,13 +126,21 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
 // a call) and the per-block partial sums of the current step.
 struct World::StepState {
     std::vector<LinearContact::Params> params;
+    // State energies (strain, bond strain, kinetic) are functions of the state: a caller
+    // can only read the ledger between cycle() calls, so they are computed on the last
+    // step of a call (the same code as on every step before, so the same numbers) and
+    // skipped on the others (two divisions per contact). Kinetic energy is also needed on
+    // every step when a kinetic-energy limit is set (check_stability).
+    bool state_energy = true, kinetic = true;
     std::vector<ContactSums> contact_blocks;
     std::vector<ParticleSums> particle_blocks;
     ContactSums wall_sums;
     long contact_block_count = 0, particle_block_count = 0;
 };
 
-void World::prepare_step(StepState& st) {
+void World::prepare_step(StepState& st, bool last_step) {
+    st.state_energy = last_step;
+    st.kinetic = last_step || max_kinetic_ < std::numeric_limits<double>::infinity();
     st.contact_block_count = (static_cast<long>(contacts_.size()) + kBlock - 1) / kBlock;
     st.contact_blocks.assign(st.contact_block_count, ContactSums{});
     const long n = static_cast<long>(particles_.size());
@@ -140,8 +150,12 @@ void World::prepare_step(StepState& st) {
 }
 
 void World::contact_block(StepState& st, long b) {
-    st.contact_blocks[b] = any_rolling_ ? ball_block<true>(contacts_, particles_, st.params, dt_, b)
-                                        : ball_block<false>(contacts_, particles_, st.params, dt_, b);
+    if (st.state_energy)
+        st.contact_blocks[b] = any_rolling_ ? ball_block<true, true>(contacts_, particles_, st.params, dt_, b)
+                                            : ball_block<false, true>(contacts_, particles_, st.params, dt_, b);
+    else
+        st.contact_blocks[b] = any_rolling_ ? ball_block<true, false>(contacts_, particles_, st.params, dt_, b)
+                                            : ball_block<false, false>(contacts_, particles_, st.params, dt_, b);
 }
 
 // Wall contacts: few, done in slot order by one thread (also gives the wall forces).
@@ -202,6 +216,7 @@ void World::wall_contacts_pass(StepState& st) {
         kin.dt = dt_;
         Vec3 no_moment = Vec3::Zero();
         LinearContact::History h{wc.normal_force[k], wc.shear_force[k], no_moment, nullptr, 0.0, 0.0, 0.0, 0.0};
+        // Few wall contacts: their stored energy is computed on every step (the same code).
         const LinearContact::Outcome o = any_rolling_
             ? LinearContact::evaluate<true>(params[wc.law[k]], kin, h)
             : LinearContact::evaluate<false>(params[wc.law[k]], kin, h);
@@ -230,8 +245,10 @@ void World::finish_contact_forces(StepState& st) {
     broken_tension_ += total.broke_tension;
     broken_shear_ += total.broke_shear;
     if (track_energy_) {
-        energy_.strain = total.strain;
-        energy_.bond_strain = total.bond_strain;
+        if (st.state_energy) {
+            energy_.strain = total.strain;
+            energy_.bond_strain = total.bond_strain;
+        }
         energy_.slip += total.slip;
         energy_.dashpot += total.dashpot;
         energy_.bond_break += total.bond_break;
@@ -248,6 +265,7 @@ void World::particle_block(StepState& st, long b) {
     const Vec3 g = gravity_;
     const bool scaling = density_scaling_;
     const bool need_stiffness = scaling;
+    const bool kinetic = st.kinetic;
     const auto& laws = resolved_laws_;
     const bool has_domain = domain_.has_value();
     const Vec3 lo = has_domain ? domain_->first : Vec3::Zero();
@@ -317,7 +335,7 @@ void World::particle_block(StepState& st, long b) {
                 s.damping += ((f - fd).dot(v_mid) + (t - td).dot(w_mid)) * dt;
                 s.boundary += pa.external_force[p].dot(v_mid) * dt;
                 s.body += pa.mass[p] * g.dot(v_mid) * dt;
-                s.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * inertia * w_new.squaredNorm();
+                if (kinetic) s.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * inertia * w_new.squaredNorm();
                 pa.velocity[p] = v_new;
                 pa.angular_velocity[p] = w_new;
                 pa.position[p] += v_new * dt;
@@ -347,7 +365,7 @@ void World::finish_particles(StepState& st) {
         if (total.bad < 0 && s.bad >= 0) { total.bad = s.bad; total.cause = s.cause; }
     }
     if (track_energy_) {
-        energy_.kinetic = total.kinetic;
+        if (st.kinetic) energy_.kinetic = total.kinetic;
         energy_.damping += total.damping;
         energy_.boundary_work += total.boundary;
         energy_.body_force_work += total.body;
@@ -368,7 +386,7 @@ void World::finish_particles(StepState& st) {
     if (total.max_disp2 > half_skin * half_skin) need_rebuild_ = true;
 }
 
-void World::integrate_clumps() {
+void World::integrate_clumps(bool kinetic) {
     const double dt = dt_;
     for (Clump& c : clumps_) {
         Vec3 f = Vec3::Zero(), t = Vec3::Zero(), f_ext = Vec3::Zero(), f_contact = Vec3::Zero(), t_contact = Vec3::Zero();
@@ -413,7 +431,7 @@ void World::integrate_clumps() {
                 energy_.damping += (f - fd).dot(v_mid) * dt + (c.fix_rotation ? 0.0 : (t - td).dot(w_mid) * dt);
                 energy_.boundary_work += (c.applied_force + f_ext).dot(v_mid) * dt + c.applied_torque.dot(w_mid) * dt;
                 energy_.body_force_work += c.mass * gravity_.dot(v_mid) * dt;
-                energy_.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * w_new.dot(inertia * w_new);
+                if (kinetic) energy_.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * w_new.dot(inertia * w_new);
             }
             c.velocity = v_new;
             c.angular_velocity = w_new;
@@ -464,7 +482,7 @@ void World::check_stability() {
 void World::finish_step(StepState& st) {
     finish_contact_forces(st);
     finish_particles(st);
-    integrate_clumps();
+    integrate_clumps(st.kinetic);
     move_walls();
     check_stability();
     ++step_;
@@ -488,7 +506,7 @@ void World::cycle(long n) {
         for (const ContactLaw& l : resolved_laws_) st.params.push_back(LinearContact::Params::from(l));
         if (!team) {
             // One thread (or a model too small to share): the same phases in order.
-            prepare_step(st);
+            prepare_step(st, s + 1 == n);
             const long nc = st.contact_block_count, np = st.particle_block_count;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (threads_ > 1 && nc * kBlock >= kParallelMin)
             for (long b = 0; b < nc; ++b) contact_block(st, b);
@@ -509,7 +527,7 @@ void World::cycle(long n) {
         std::atomic<bool> leave{false};
         std::exception_ptr error;
         long done = s;
-        prepare_step(st);
+        prepare_step(st, done + 1 == n);
 #pragma omp parallel num_threads(threads_)
         {
             const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
@@ -528,7 +546,7 @@ void World::cycle(long n) {
                         finish_step(st);
                         ++done;
                         if (done >= n || need_rebuild_) leave.store(true, std::memory_order_relaxed);
-                        else prepare_step(st);
+                        else prepare_step(st, done + 1 == n);
                     } catch (...) {
                         error = std::current_exception();
                         leave.store(true, std::memory_order_relaxed);
