@@ -1,7 +1,9 @@
 // The per-step shortcuts of the time step (docs/engine.md, "Performance of the full-size
 // paper group", session 7) must give exactly what the plain code gave: the sqrt-free
-// comparisons of the contact law and the branch-free sign of local damping.
+// comparisons of the contact law and of the stability check, and the branch-free sign of
+// local damping.
 #include "engine/contact/linear.hpp"
+#include "engine/core/world.hpp"
 #include "engine/integrate/local_damping.hpp"
 #include "test_helpers.hpp"
 
@@ -60,6 +62,24 @@ TEST_CASE("branch-free sign of local damping equals the conditional form", "[eng
         for (int a = 0; a < 3; ++a) {
             const double plain = f[a] - 0.7 * std::abs(f[a]) * (v[a] > 0.0 ? 1.0 : (v[a] < 0.0 ? -1.0 : 0.0));
             CHECK(fd[a] == plain);
+        }
+    }
+}
+
+// The stability check ("moved more than its radius in one step") skips its sqrt when the
+// step is clearly shorter; it must still fire just above the radius and not just below.
+TEST_CASE("the sqrt-free stability check fires at one radius per step, not below", "[engine][errors]") {
+    const double r = 1e-3, dt = 1e-5;
+    for (const double ratio : {0.999999, 1.000001, 0.5, 3.0}) {
+        World w;
+        w.set_default_contact_law(test::linear_law(1e4, 1e4, 0.5));
+        const int p = w.add_sphere(Vec3::Zero(), r, 2650.0);
+        w.set_time_step(dt);
+        w.particles().velocity[p] = Vec3(0.6, -0.8, 0.0) * (ratio * r / dt);  // |v| dt = ratio r
+        if (ratio > 1.0) {
+            CHECK_THROWS_AS(w.cycle(1), SimulationError);
+        } else {
+            CHECK_NOTHROW(w.cycle(3));
         }
     }
 }
