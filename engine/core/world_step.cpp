@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <sstream>
@@ -44,6 +45,32 @@ struct ContactSums {
         dashpot += o.dashpot; bond_break += o.bond_break;
         broke_tension += o.broke_tension; broke_shear += o.broke_shear;
     }
+};
+
+// Blocks [0, n) handed out from both ends: thread 0 takes them from the front, the other
+// threads from the back. Contact slots are sorted by their first particle and particle
+// blocks follow the particle index, so a thread tends to gather the forces that it wrote
+// itself and to integrate the particles whose contacts it computed (fewer cache lines
+// moving between the cores than with one counter, where the blocks' owners are random),
+// and the split point still follows the load (dynamic). Which thread runs a block does not
+// change the results (partial sums per block, reduced in block order).
+class TwoEndedBlocks {
+public:
+    void reset(long n) { ends_.store(static_cast<std::uint64_t>(n), std::memory_order_relaxed); }
+    // The next block for thread `tid`, or -1 when none is left.
+    long take(int tid) {
+        std::uint64_t e = ends_.load(std::memory_order_relaxed);
+        while (true) {
+            const std::uint64_t front = e >> 32, back = e & 0xffffffffu;
+            if (front >= back) return -1;
+            const std::uint64_t next = tid == 0 ? ((front + 1) << 32) | back : (front << 32) | (back - 1);
+            if (ends_.compare_exchange_weak(e, next, std::memory_order_relaxed))
+                return static_cast<long>(tid == 0 ? front : back - 1);
+        }
+    }
+
+private:
+    std::atomic<std::uint64_t> ends_{0};  // front in the high 32 bits, back (exclusive) in the low
 };
 
 struct ParticleSums {
@@ -527,23 +554,25 @@ void World::cycle(long n) {
         // rebuilt or the call ends), three barriers per step. A region per phase cost a fork
         // and a join each, i.e. four thread wake-ups per step (libgomp: a futex each under
         // OMP_WAIT_POLICY=passive); docs/engine.md, "Performance of the full-size paper group".
-        // Blocks are handed out by atomic counters and reduced in block order, so results
-        // equal the one-thread path.
-        std::atomic<long> next_contact{0}, next_particle{0};
+        // Blocks are handed out from both ends (TwoEndedBlocks) and reduced in block order,
+        // so results equal the one-thread path.
+        TwoEndedBlocks contact_blocks, particle_blocks;
         std::atomic<bool> leave{false};
         std::exception_ptr error;
         long done = s;
         prepare_step(st, done + 1 == n);
+        contact_blocks.reset(st.contact_block_count);
+        particle_blocks.reset(st.particle_block_count);
 #pragma omp parallel num_threads(threads_)
         {
             const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
             while (true) {
                 // Contacts: the last thread takes the wall contacts first, then joins the blocks.
                 if (tid == nt - 1) wall_contacts_pass(st);
-                for (long b; (b = next_contact.fetch_add(1, std::memory_order_relaxed)) < st.contact_block_count;)
+                for (long b; (b = contact_blocks.take(tid)) >= 0;)
                     contact_block(st, b);
 #pragma omp barrier
-                for (long b; (b = next_particle.fetch_add(1, std::memory_order_relaxed)) < st.particle_block_count;)
+                for (long b; (b = particle_blocks.take(tid)) >= 0;)
                     particle_block(st, b);
 #pragma omp barrier
                 if (tid == 0) {
@@ -557,8 +586,8 @@ void World::cycle(long n) {
                         error = std::current_exception();
                         leave.store(true, std::memory_order_relaxed);
                     }
-                    next_contact.store(0, std::memory_order_relaxed);
-                    next_particle.store(0, std::memory_order_relaxed);
+                    contact_blocks.reset(st.contact_block_count);
+                    particle_blocks.reset(st.particle_block_count);
                 }
 #pragma omp barrier
                 if (leave.load(std::memory_order_relaxed)) break;
