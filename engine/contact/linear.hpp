@@ -10,6 +10,9 @@
 //     (tension) or |Fs| >= ss (1 - damage) (shear); then frictional.
 //   rolling resistance (kRolling): M <- rotate(M) - kr dtheta_b,  kr = f ks Rbar^2,
 //     |M| <= mu_r Rbar Fn.
+// kStateEnergy: whether to return the springs' stored energy (strain, bond_strain). It is
+// a state function that the World books only on the last step of a cycle() call (the only
+// one a caller can read); the dissipations (slip, dashpot, bond_break) are always booked.
 // n points from the first body (i, or the wall) to the second (j, or the particle);
 // all returned forces/moments act on the second body.
 #include "engine/contact/contact_law.hpp"
@@ -60,6 +63,19 @@ struct LinearContact {
         bool active = false, broke_tension = false, broke_shear = false;
     };
 
+    // sqrt(x2) compared with s exactly as std::sqrt(x2) >= s (or > s) compares, without the
+    // sqrt when x2 is clearly below s^2: x2 < s^2 (1 - 2^-48) (s^2 rounded twice, < 1e-15
+    // relative) puts sqrt(x2) at least 7 ulps below s, so the rounded sqrt is below s too.
+    // Only near cases and s <= 0 take the sqrt. Most contacts stick and most bonds hold, so
+    // the sqrt (long latency, on the force's critical path) is mostly skipped; the result,
+    // and so the trajectory, is bitwise the one of the plain comparison.
+    static bool clearly_below(double x2, double s) {
+        constexpr double kBelow = 1.0 - 0x1p-48;
+        return s > 0.0 && x2 < s * s * kBelow;
+    }
+    static bool norm_at_least(double x2, double s) { return !clearly_below(x2, s) && std::sqrt(x2) >= s; }
+    static bool norm_above(double x2, double s) { return !clearly_below(x2, s) && std::sqrt(x2) > s; }
+
     // PFC keeps the magnitude of a shear quantity when the contact plane turns: project
     // onto the new plane and rescale.
     static Vec3 rotate_into_plane(const Vec3& s, const Vec3& n) {
@@ -71,7 +87,7 @@ struct LinearContact {
         return t * std::sqrt(mag2 / t2);
     }
 
-    template <bool kRolling>
+    template <bool kRolling, bool kStateEnergy = true>
     [[gnu::always_inline]] static inline Outcome evaluate(const Params& p, const Kinematics& k, History& h) {
         Outcome out;
         const bool was_bonded = h.bonded && *h.bonded;
@@ -101,7 +117,7 @@ struct LinearContact {
             if (-fn_el >= h.bond_normal_strength * keep) {
                 bonded = false;
                 out.broke_tension = true;
-            } else if (fs.norm() >= h.bond_shear_strength * keep) {
+            } else if (norm_at_least(fs.squaredNorm(), h.bond_shear_strength * keep)) {
                 bonded = false;
                 out.broke_shear = true;
             }
@@ -127,8 +143,9 @@ struct LinearContact {
         }
         if (!bonded) {
             const double limit = p.friction * (1.0 - h.asperity_wear) * fn_el;
-            const double mag = fs.norm();
-            if (mag > limit) {
+            const double fs2 = fs.squaredNorm();
+            if (norm_above(fs2, limit)) {
+                const double mag = std::sqrt(fs2);
                 const Vec3 fs_new = mag > 0 ? Vec3(fs * (limit / mag)) : Vec3::Zero();
                 // slip = work absorbed by the contact - change of the spring energy
                 const double absorbed = -0.5 * (fs_rot + fs_new).dot(dus);
@@ -137,7 +154,8 @@ struct LinearContact {
                 fs = fs_new;
             }
         }
-        double spring = 0.5 * fn_el * fn_el / p.kn + (p.ks > 0 ? 0.5 * fs.squaredNorm() / p.ks : 0.0);
+        double spring = 0.0;
+        if constexpr (kStateEnergy) spring = 0.5 * fn_el * fn_el / p.kn + (p.ks > 0 ? 0.5 * fs.squaredNorm() / p.ks : 0.0);
         Vec3 moment = Vec3::Zero();
         if constexpr (kRolling) {
             if (p.rolling_friction > 0.0) {
@@ -154,7 +172,8 @@ struct LinearContact {
                     out.slip += absorbed - d_spring;
                     moment = m_new;
                 }
-                if (kr > 0) spring += 0.5 * moment.squaredNorm() / kr;
+                if constexpr (kStateEnergy)
+                    if (kr > 0) spring += 0.5 * moment.squaredNorm() / kr;
             }
         }
         if (bonded) out.bond_strain = spring;

@@ -138,14 +138,14 @@ private:
     void refresh_resolved_laws();
     // Phases of one step (world_step.cpp); StepState holds the per-block partial sums.
     struct StepState;
-    void prepare_step(StepState& st);
+    void prepare_step(StepState& st, bool last_step);
     void contact_block(StepState& st, long block);
     void wall_contacts_pass(StepState& st);
     void finish_contact_forces(StepState& st);
     void particle_block(StepState& st, long block);
     void finish_particles(StepState& st);
     void finish_step(StepState& st);
-    void integrate_clumps();
+    void integrate_clumps(bool kinetic);
     void move_walls();
     void check_stability();
     void update_clump_members(Clump& c);

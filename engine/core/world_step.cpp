@@ -12,7 +12,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
+#include <limits>
 #include <sstream>
 
 namespace triax {
@@ -45,14 +47,41 @@ struct ContactSums {
     }
 };
 
+// Blocks [0, n) handed out from both ends: thread 0 takes them from the front, the other
+// threads from the back. Contact slots are sorted by their first particle and particle
+// blocks follow the particle index, so a thread tends to gather the forces that it wrote
+// itself and to integrate the particles whose contacts it computed (fewer cache lines
+// moving between the cores than with one counter, where the blocks' owners are random),
+// and the split point still follows the load (dynamic). Which thread runs a block does not
+// change the results (partial sums per block, reduced in block order).
+class TwoEndedBlocks {
+public:
+    void reset(long n) { ends_.store(static_cast<std::uint64_t>(n), std::memory_order_relaxed); }
+    // The next block for thread `tid`, or -1 when none is left.
+    long take(int tid) {
+        std::uint64_t e = ends_.load(std::memory_order_relaxed);
+        while (true) {
+            const std::uint64_t front = e >> 32, back = e & 0xffffffffu;
+            if (front >= back) return -1;
+            const std::uint64_t next = tid == 0 ? ((front + 1) << 32) | back : (front << 32) | (back - 1);
+            if (ends_.compare_exchange_weak(e, next, std::memory_order_relaxed))
+                return static_cast<long>(tid == 0 ? front : back - 1);
+        }
+    }
+
+private:
+    std::atomic<std::uint64_t> ends_{0};  // front in the high 32 bits, back (exclusive) in the low
+};
+
 struct ParticleSums {
     double kinetic = 0, damping = 0, boundary = 0, body = 0, max_disp2 = 0;
     long bad = -1;  // first particle index that failed a stability check
     int cause = 0;
 };
 
-// One block of ball-ball slots: forces into the slots, energies into the block's sums.
-template <bool kRolling>
+// One block of ball-ball slots: forces into the slots, energies into the block's sums
+// (the springs' stored energy only when kStateEnergy: see StepState::state_energy).
+template <bool kRolling, bool kStateEnergy>
 ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vector<LinearContact::Params>& params,
                        double dt, long b) {
     const long ns = static_cast<long>(c.size());
@@ -98,7 +127,7 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
             LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k],
                                      c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
                                      c.asperity_wear[k]};
-            const LinearContact::Outcome o = LinearContact::evaluate<kRolling>(params[c.law[k]], kin, h);
+            const LinearContact::Outcome o = LinearContact::evaluate<kRolling, kStateEnergy>(params[c.law[k]], kin, h);
             sums.add(o);
             c.overlap[k] = kin.overlap;
             c.contact_point[k] = xc;
@@ -124,13 +153,21 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
 // a call) and the per-block partial sums of the current step.
 struct World::StepState {
     std::vector<LinearContact::Params> params;
+    // State energies (strain, bond strain, kinetic) are functions of the state: a caller
+    // can only read the ledger between cycle() calls, so they are computed on the last
+    // step of a call (the same code as on every step before, so the same numbers) and
+    // skipped on the others (two divisions per contact). Kinetic energy is also needed on
+    // every step when a kinetic-energy limit is set (check_stability).
+    bool state_energy = true, kinetic = true;
     std::vector<ContactSums> contact_blocks;
     std::vector<ParticleSums> particle_blocks;
     ContactSums wall_sums;
     long contact_block_count = 0, particle_block_count = 0;
 };
 
-void World::prepare_step(StepState& st) {
+void World::prepare_step(StepState& st, bool last_step) {
+    st.state_energy = last_step;
+    st.kinetic = last_step || max_kinetic_ < std::numeric_limits<double>::infinity();
     st.contact_block_count = (static_cast<long>(contacts_.size()) + kBlock - 1) / kBlock;
     st.contact_blocks.assign(st.contact_block_count, ContactSums{});
     const long n = static_cast<long>(particles_.size());
@@ -140,8 +177,12 @@ void World::prepare_step(StepState& st) {
 }
 
 void World::contact_block(StepState& st, long b) {
-    st.contact_blocks[b] = any_rolling_ ? ball_block<true>(contacts_, particles_, st.params, dt_, b)
-                                        : ball_block<false>(contacts_, particles_, st.params, dt_, b);
+    if (st.state_energy)
+        st.contact_blocks[b] = any_rolling_ ? ball_block<true, true>(contacts_, particles_, st.params, dt_, b)
+                                            : ball_block<false, true>(contacts_, particles_, st.params, dt_, b);
+    else
+        st.contact_blocks[b] = any_rolling_ ? ball_block<true, false>(contacts_, particles_, st.params, dt_, b)
+                                            : ball_block<false, false>(contacts_, particles_, st.params, dt_, b);
 }
 
 // Wall contacts: few, done in slot order by one thread (also gives the wall forces).
@@ -202,6 +243,7 @@ void World::wall_contacts_pass(StepState& st) {
         kin.dt = dt_;
         Vec3 no_moment = Vec3::Zero();
         LinearContact::History h{wc.normal_force[k], wc.shear_force[k], no_moment, nullptr, 0.0, 0.0, 0.0, 0.0};
+        // Few wall contacts: their stored energy is computed on every step (the same code).
         const LinearContact::Outcome o = any_rolling_
             ? LinearContact::evaluate<true>(params[wc.law[k]], kin, h)
             : LinearContact::evaluate<false>(params[wc.law[k]], kin, h);
@@ -230,8 +272,10 @@ void World::finish_contact_forces(StepState& st) {
     broken_tension_ += total.broke_tension;
     broken_shear_ += total.broke_shear;
     if (track_energy_) {
-        energy_.strain = total.strain;
-        energy_.bond_strain = total.bond_strain;
+        if (st.state_energy) {
+            energy_.strain = total.strain;
+            energy_.bond_strain = total.bond_strain;
+        }
         energy_.slip += total.slip;
         energy_.dashpot += total.dashpot;
         energy_.bond_break += total.bond_break;
@@ -248,6 +292,9 @@ void World::particle_block(StepState& st, long b) {
     const Vec3 g = gravity_;
     const bool scaling = density_scaling_;
     const bool need_stiffness = scaling;
+    const bool kinetic = st.kinetic;
+    const double dt2 = dt * dt;
+    constexpr double kStableBelow = 1.0 - 0x1p-40;
     const auto& laws = resolved_laws_;
     const bool has_domain = domain_.has_value();
     const Vec3 lo = has_domain ? domain_->first : Vec3::Zero();
@@ -317,14 +364,18 @@ void World::particle_block(StepState& st, long b) {
                 s.damping += ((f - fd).dot(v_mid) + (t - td).dot(w_mid)) * dt;
                 s.boundary += pa.external_force[p].dot(v_mid) * dt;
                 s.body += pa.mass[p] * g.dot(v_mid) * dt;
-                s.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * inertia * w_new.squaredNorm();
+                if (kinetic) s.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * inertia * w_new.squaredNorm();
                 pa.velocity[p] = v_new;
                 pa.angular_velocity[p] = w_new;
                 pa.position[p] += v_new * dt;
-                if (s.bad < 0) {
-                    const double step_len = v_new.norm() * dt;
+                // Stability check without a sqrt per particle: |v| dt is far below the radius
+                // when |v|^2 dt^2 < r^2 (1 - 2^-40) (rounding: < 1e-15 relative), and then the
+                // check below cannot fire; non-finite values fail the screen and are checked.
+                const double v2 = v_new.squaredNorm(), r = pa.radius[p];
+                if (s.bad < 0 && !(v2 * dt2 < r * r * kStableBelow && std::isfinite(w_new.squaredNorm()))) {
+                    const double step_len = std::sqrt(v2) * dt;
                     if (!std::isfinite(step_len) || !std::isfinite(w_new.squaredNorm())) { s.bad = p; s.cause = 1; }
-                    else if (step_len > pa.radius[p]) { s.bad = p; s.cause = 2; }
+                    else if (step_len > r) { s.bad = p; s.cause = 2; }
                 }
             }
             if (has_domain && s.bad < 0 &&
@@ -347,7 +398,7 @@ void World::finish_particles(StepState& st) {
         if (total.bad < 0 && s.bad >= 0) { total.bad = s.bad; total.cause = s.cause; }
     }
     if (track_energy_) {
-        energy_.kinetic = total.kinetic;
+        if (st.kinetic) energy_.kinetic = total.kinetic;
         energy_.damping += total.damping;
         energy_.boundary_work += total.boundary;
         energy_.body_force_work += total.body;
@@ -368,7 +419,7 @@ void World::finish_particles(StepState& st) {
     if (total.max_disp2 > half_skin * half_skin) need_rebuild_ = true;
 }
 
-void World::integrate_clumps() {
+void World::integrate_clumps(bool kinetic) {
     const double dt = dt_;
     for (Clump& c : clumps_) {
         Vec3 f = Vec3::Zero(), t = Vec3::Zero(), f_ext = Vec3::Zero(), f_contact = Vec3::Zero(), t_contact = Vec3::Zero();
@@ -413,7 +464,7 @@ void World::integrate_clumps() {
                 energy_.damping += (f - fd).dot(v_mid) * dt + (c.fix_rotation ? 0.0 : (t - td).dot(w_mid) * dt);
                 energy_.boundary_work += (c.applied_force + f_ext).dot(v_mid) * dt + c.applied_torque.dot(w_mid) * dt;
                 energy_.body_force_work += c.mass * gravity_.dot(v_mid) * dt;
-                energy_.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * w_new.dot(inertia * w_new);
+                if (kinetic) energy_.kinetic += 0.5 * m * v_new.squaredNorm() + 0.5 * w_new.dot(inertia * w_new);
             }
             c.velocity = v_new;
             c.angular_velocity = w_new;
@@ -464,7 +515,7 @@ void World::check_stability() {
 void World::finish_step(StepState& st) {
     finish_contact_forces(st);
     finish_particles(st);
-    integrate_clumps();
+    integrate_clumps(st.kinetic);
     move_walls();
     check_stability();
     ++step_;
@@ -488,7 +539,7 @@ void World::cycle(long n) {
         for (const ContactLaw& l : resolved_laws_) st.params.push_back(LinearContact::Params::from(l));
         if (!team) {
             // One thread (or a model too small to share): the same phases in order.
-            prepare_step(st);
+            prepare_step(st, s + 1 == n);
             const long nc = st.contact_block_count, np = st.particle_block_count;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads_) if (threads_ > 1 && nc * kBlock >= kParallelMin)
             for (long b = 0; b < nc; ++b) contact_block(st, b);
@@ -503,23 +554,25 @@ void World::cycle(long n) {
         // rebuilt or the call ends), three barriers per step. A region per phase cost a fork
         // and a join each, i.e. four thread wake-ups per step (libgomp: a futex each under
         // OMP_WAIT_POLICY=passive); docs/engine.md, "Performance of the full-size paper group".
-        // Blocks are handed out by atomic counters and reduced in block order, so results
-        // equal the one-thread path.
-        std::atomic<long> next_contact{0}, next_particle{0};
+        // Blocks are handed out from both ends (TwoEndedBlocks) and reduced in block order,
+        // so results equal the one-thread path.
+        TwoEndedBlocks contact_blocks, particle_blocks;
         std::atomic<bool> leave{false};
         std::exception_ptr error;
         long done = s;
-        prepare_step(st);
+        prepare_step(st, done + 1 == n);
+        contact_blocks.reset(st.contact_block_count);
+        particle_blocks.reset(st.particle_block_count);
 #pragma omp parallel num_threads(threads_)
         {
             const int tid = omp_get_thread_num(), nt = omp_get_num_threads();
             while (true) {
                 // Contacts: the last thread takes the wall contacts first, then joins the blocks.
                 if (tid == nt - 1) wall_contacts_pass(st);
-                for (long b; (b = next_contact.fetch_add(1, std::memory_order_relaxed)) < st.contact_block_count;)
+                for (long b; (b = contact_blocks.take(tid)) >= 0;)
                     contact_block(st, b);
 #pragma omp barrier
-                for (long b; (b = next_particle.fetch_add(1, std::memory_order_relaxed)) < st.particle_block_count;)
+                for (long b; (b = particle_blocks.take(tid)) >= 0;)
                     particle_block(st, b);
 #pragma omp barrier
                 if (tid == 0) {
@@ -528,13 +581,13 @@ void World::cycle(long n) {
                         finish_step(st);
                         ++done;
                         if (done >= n || need_rebuild_) leave.store(true, std::memory_order_relaxed);
-                        else prepare_step(st);
+                        else prepare_step(st, done + 1 == n);
                     } catch (...) {
                         error = std::current_exception();
                         leave.store(true, std::memory_order_relaxed);
                     }
-                    next_contact.store(0, std::memory_order_relaxed);
-                    next_particle.store(0, std::memory_order_relaxed);
+                    contact_blocks.reset(st.contact_block_count);
+                    particle_blocks.reset(st.particle_block_count);
                 }
 #pragma omp barrier
                 if (leave.load(std::memory_order_relaxed)) break;

@@ -1,7 +1,9 @@
 #pragma once
 // Energy partitions as in PFC (J). State quantities (strain, bond strain, kinetic) are
-// recomputed each step; dissipations and works accumulate from the World's creation
-// (or the last reset()).
+// those of the last step of the last World::cycle() call (computed on that step only: the
+// ledger cannot be read in between; kinetic on every step when a kinetic-energy limit is
+// set); dissipations and works accumulate every step from the World's creation (or the
+// last reset()).
 //
 // Balance: boundary_work + body_force_work
 //        = strain + bond_strain + kinetic + slip + damping + dashpot + bond_break + creep

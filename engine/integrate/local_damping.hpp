@@ -11,7 +11,10 @@
 
 namespace triax {
 
-inline double sign_of(double v) { return v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0); }
+// Branch-free (the signs of the velocity components are random from particle to
+// particle, so a branch mispredicts often); exactly 1, -1 or 0 (also 0 for NaN), as the
+// conditional form gave.
+inline double sign_of(double v) { return static_cast<double>(v > 0.0) - static_cast<double>(v < 0.0); }
 
 inline Vec3 local_damping_force(const Vec3& f, const Vec3& v, double alpha) {
     return Vec3(f[0] - alpha * std::abs(f[0]) * sign_of(v[0]),

@@ -85,3 +85,50 @@ TEST_CASE("applied particle forces and gravity are booked as input", "[engine][e
     REQUIRE(e.boundary_work > 0);
     CHECK(std::abs(e.imbalance()) <= 0.01 * e.input());
 }
+
+// The stored energies are booked on the last step of each cycle() call only (world_step.cpp,
+// StepState): after any call they must be the springs' and bodies' energy of that step,
+// and equal to what one-step calls give.
+TEST_CASE("state energies after a multi-step cycle() are those of its last step", "[engine][energy]") {
+    World a = box_world(0.4, 0.7, 21), b = box_world(0.4, 0.7, 21);
+    a.plane_wall(5).velocity = b.plane_wall(5).velocity = Vec3(0, 0, -0.05);
+    a.cycle(6000);
+    for (int k = 0; k < 6000; ++k) b.cycle(1);
+    REQUIRE(a.energy().strain > 0.0);
+    REQUIRE(a.energy().kinetic > 0.0);
+    CHECK(a.energy().strain == b.energy().strain);
+    CHECK(a.energy().kinetic == b.energy().kinetic);
+    CHECK(a.energy().slip == b.energy().slip);
+    // Independently from the contact store and the velocities (true masses: no scaling).
+    double strain = 0.0, kinetic = 0.0;
+    const ContactStore& c = a.contacts();
+    for (std::size_t k = 0; k < c.size(); ++k) {
+        if (!c.active[k]) continue;
+        const ContactLaw& law = a.contact_law_of(k);
+        strain += 0.5 * c.normal_force[k] * c.normal_force[k] / law.kn + 0.5 * c.shear_force[k].squaredNorm() / law.ks;
+    }
+    const WallContactStore& wc = a.wall_contacts();
+    for (std::size_t k = 0; k < wc.size(); ++k) {
+        if (!wc.active[k]) continue;
+        const ContactLaw& law = a.wall_contact_law_of(k);
+        strain += 0.5 * wc.normal_force[k] * wc.normal_force[k] / law.kn + 0.5 * wc.shear_force[k].squaredNorm() / law.ks;
+    }
+    const ParticleArrays& pa = a.particles();
+    for (std::size_t p = 0; p < pa.size(); ++p)
+        kinetic += 0.5 * pa.mass[p] * pa.velocity[p].squaredNorm() + 0.5 * pa.inertia[p] * pa.angular_velocity[p].squaredNorm();
+    CHECK(a.energy().strain == Approx(strain).epsilon(1e-12));
+    CHECK(a.energy().kinetic == Approx(kinetic).epsilon(1e-12));
+    // A kinetic-energy limit is checked on every step, not only on the last of a call:
+    // triple every velocity (9x the kinetic energy) under a limit of twice the old one.
+    World d = box_world(0.4, 0.7, 21);
+    d.plane_wall(5).velocity = Vec3(0, 0, -0.05);
+    d.cycle(6000);
+    d.set_max_kinetic_energy(2.0 * d.energy().kinetic);
+    for (auto& v : d.particles().velocity) v *= 3.0;
+    try {
+        d.cycle(5);
+        FAIL("no SimulationError");
+    } catch (const SimulationError& e) {
+        CHECK(e.step() == 6000);  // the first step of the call, not its last
+    }
+}
