@@ -11,6 +11,18 @@
 
 using namespace triax;
 
+namespace {
+// Three grains in a chain, 0-1 and 1-2 in contact with the given normal forces (N).
+ContactStore grain_chain(double f01, double f12) {
+    ContactStore c;
+    c.resize(2);
+    for (int k = 0; k < 2; ++k) c.reset_history(k);
+    c.i[0] = 0; c.j[0] = 1; c.active[0] = 1; c.normal_force[0] = f01;
+    c.i[1] = 1; c.j[1] = 2; c.active[1] = 1; c.normal_force[1] = f12;
+    return c;
+}
+}  // namespace
+
 TEST_CASE("Weibull crushing strength: sigma0 at d0 for the 1/e survivor, falls with size", "[crushing]") {
     GrainCrushingParams p;
     p.strength_pa = 2.0e6;
@@ -216,11 +228,7 @@ TEST_CASE("static fatigue: time to the next failure is the exact update's invers
     // The grains' summary reports the shortest such time among the grains not yet failed:
     // the piece of a creep increment ends there (the load of a broken grain is passed on
     // before the others fatigue further).
-    ContactStore c;
-    c.resize(2);
-    for (int k = 0; k < 2; ++k) c.reset_history(k);
-    c.i[0] = 0; c.j[0] = 1; c.active[0] = 1; c.normal_force[0] = 95.0;
-    c.i[1] = 1; c.j[1] = 2; c.active[1] = 1; c.normal_force[1] = 50.0;
+    const ContactStore c = grain_chain(95.0, 50.0);
     const std::vector<double> f_c = {100.0, 200.0, 40.0};
     std::vector<double> damage = {0.0, 0.0, kFatigueDamageMax}, f_now = f_c;
     const FatigueSummary s = fatigue_grains(c, 3, f_c, damage, f_now, 1.0, p, false);
@@ -378,11 +386,7 @@ TEST_CASE("strength spread of lives: brittle lifetime law t_f = B S^(n-2) sigma^
 }
 
 TEST_CASE("capped peak-force drive through the general path is the session-5 law", "[crushing][fatigue]") {
-    ContactStore c;
-    c.resize(2);
-    for (int k = 0; k < 2; ++k) c.reset_history(k);
-    c.i[0] = 0; c.j[0] = 1; c.active[0] = 1; c.normal_force[0] = 95.0;
-    c.i[1] = 1; c.j[1] = 2; c.active[1] = 1; c.normal_force[1] = 130.0;
+    const ContactStore c = grain_chain(95.0, 130.0);
     const std::vector<double> f_c = {100.0, 200.0, 40.0};
     GrainFatigueParams p;
     p.time_s = 1.0e6;
