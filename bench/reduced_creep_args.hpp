@@ -71,7 +71,13 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "t0") s.creep.grain_fatigue_time_s = v;
     else if (k == "nf") s.creep.grain_fatigue_exponent = v;
     else if (k == "rcap") s.creep.grain_fatigue_ratio_cap = v;
-    else if (k == "drive") s.creep.grain_fatigue_drive = static_cast<protocol::GrainFatigueDrive>(static_cast<int>(v));
+    else if (k == "drive") {
+        if (v != 0 && v != 1 && v != 2) {
+            std::fprintf(stderr, "drive=%s: 0 (capped peak force), 1 (peak force) or 2 (grain stress)\n", arg.substr(eq + 1).c_str());
+            return false;
+        }
+        s.creep.grain_fatigue_drive = static_cast<protocol::GrainFatigueDrive>(static_cast<int>(v));
+    }
     else if (k == "inst") s.creep.grain_fatigue_instant_life_s = v;
     else if (k == "spread") s.creep.grain_fatigue_strength_spread = v != 0;
     else if (k == "crush") { if (v != 0) s.micro = protocol::paper_group("C").micro; }
