@@ -202,10 +202,7 @@ std::vector<double> drive_ratios(const World& w, int n_grains, const std::vector
 }  // namespace
 
 FatigueSummary Specimen::advance_fatigue(double dt, const GrainFatigueParams& p, bool apply) {
-    if (!crushing_on_) return {};
-    if (p.drive == FatigueDrive::CappedPeakForce && !p.strength_spread)  // the session-5 law, as it was
-        return fatigue_grains(world_.contacts(), soil_count_, crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
-    if (!p.enabled()) return {};
+    if (!crushing_on_ || !p.enabled()) return {};
     return fatigue_grains(drive_ratios(world_, soil_count_, crush_force_, p), p.strength_spread ? &fatigue_life_scale_ : nullptr,
                           crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
 }
