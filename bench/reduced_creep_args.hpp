@@ -2,7 +2,7 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf rcap drive(0 capped peak
+// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf rcap drive(0 capped peak
 //       force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
 //       crushable grains) s3(kPa) hours verbose; creep holds (engine/protocol/creep_hold.hpp):
@@ -54,7 +54,17 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     }
     const std::string k = arg.substr(0, eq);
     const double v = std::atof(arg.substr(eq + 1).c_str());
-    if (k == "A") s.creep.slip_rate_a_m_s = v;
+    if (k == "group") {  // the paper group's full-size scheme (e.g. group=B); give it first
+        const std::string g = arg.substr(eq + 1);
+        if (g.size() != 1 || g[0] < 'A' || g[0] > 'E') {
+            std::fprintf(stderr, "group=%s: one of A B C D E\n", g.c_str());
+            return false;
+        }
+        s = protocol::paper_group(g);
+        a.sigma3_kpa = s.loading.confining_pressure_pa / 1e3;
+        a.hours = s.loading.stage_durations_s.empty() ? a.hours : s.loading.stage_durations_s.front() / 3600.0;
+    }
+    else if (k == "A") s.creep.slip_rate_a_m_s = v;
     else if (k == "beta") s.creep.slip_beta = v;
     else if (k == "sh") s.creep.slip_hardening_length_m = v;
     else if (k == "eps") s.creep.capacity_offset = v;
