@@ -54,6 +54,17 @@ TEST_CASE("branch-free sign of local damping equals the conditional form", "[eng
     CHECK(sign_of(0.0) == 0.0);
     CHECK(sign_of(-0.0) == 0.0);
     CHECK(sign_of(nan) == 0.0);
+    // Session 8: on x86 sign_of is two mask compares; also the edges and the sign of the
+    // zero (+0.0, as (v > 0) - (v < 0) gives: a -0.0 would still compare equal above).
+    const double inf = std::numeric_limits<double>::infinity(), tiny = std::numeric_limits<double>::denorm_min();
+    CHECK(sign_of(inf) == 1.0);
+    CHECK(sign_of(-inf) == -1.0);
+    CHECK(sign_of(tiny) == 1.0);
+    CHECK(sign_of(-tiny) == -1.0);
+    CHECK(sign_of(-nan) == 0.0);
+    CHECK_FALSE(std::signbit(sign_of(0.0)));
+    CHECK_FALSE(std::signbit(sign_of(-0.0)));
+    CHECK_FALSE(std::signbit(sign_of(nan)));
     test::Rng rng(5);
     for (int k = 0; k < 1000; ++k) {
         const Vec3 f(rng.uniform() - 0.5, rng.uniform() - 0.5, 0.0);
