@@ -11,6 +11,7 @@
 //       1000 cycles) restk (rest window, chunks) drift qs noov
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 
 #include "engine/protocol/creep_hold.hpp"
@@ -55,12 +56,12 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     const std::string k = arg.substr(0, eq);
     const double v = std::atof(arg.substr(eq + 1).c_str());
     if (k == "group") {  // the paper group's full-size scheme (e.g. group=B); give it first
-        const std::string g = arg.substr(eq + 1);
-        if (g.size() != 1 || g[0] < 'A' || g[0] > 'E') {
-            std::fprintf(stderr, "group=%s: one of A B C D E\n", g.c_str());
+        try {
+            s = protocol::paper_group(arg.substr(eq + 1));
+        } catch (const std::exception& e) {  // the preset lookup names the valid groups
+            std::fprintf(stderr, "%s\n", e.what());
             return false;
         }
-        s = protocol::paper_group(g);
         a.sigma3_kpa = s.loading.confining_pressure_pa / 1e3;
         a.hours = s.loading.stage_durations_s.empty() ? a.hours : s.loading.stage_durations_s.front() / 3600.0;
     }
