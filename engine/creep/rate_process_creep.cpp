@@ -127,12 +127,12 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                         return std::max(tn > 0.0 ? std::max(0.0, -fn) / (tn * keep) : 0.0,
                                         shear_strength > 0.0 ? fs / shear_strength : 0.0);
                     };
+                    auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
                     double left = dt;
                     bool grew = false;
                     while (left > 0.0 && dmg < 1.0) {
                         const double rho = utilisation(dmg);
                         if (!(rho > p_.bond_corrosion_threshold) || rho >= 1.0) break;
-                        auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
                         const double rate = rate_at(rho);
                         const double h = std::min(left, 0.01 / rate);
                         dmg = std::min(1.0, dmg + rate_at(utilisation(dmg + 0.5 * rate * h)) * h);
