@@ -37,9 +37,19 @@ int main(int argc, char** argv) {
     trace.on = verbose;
     std::vector<HoldRecord> holds;
     args.hold.log = &holds;
-    const auto r = run_triaxial_test(s, trace, Phase::Creep, args.hold);
+    const auto r = run_triaxial_test(s, trace, args.shear_only ? Phase::Shear : Phase::Creep, args.hold);
     std::printf("q_f %.1f kPa, grains %d, relaxations %ld, total steps %ld, wall %.1f s\n", r.q_failure_pa / 1e3,
                 r.particle_count, r.creep_relaxations, r.total_steps, r.wall_time_s);
+    if (args.shear_only) {  // q (kPa) and eps_v (%) at axial strains 1..15 %
+        std::printf("q_f at eps_a %.2f %%; eps_a%%:q kPa/eps_v%%", 100 * r.axial_strain_at_failure);
+        for (double e : {0.01, 0.02, 0.03, 0.04, 0.06, 0.08, 0.10, 0.12, 0.15})
+            for (const auto& p : r.shear)
+                if (p.axial_strain >= e) {
+                    std::printf(" %.0f:%.0f/%.2f", 100 * e, p.q_pa / 1e3, 100 * p.volumetric_strain);
+                    break;
+                }
+        std::printf("\n");
+    }
     for (const auto& st : r.creep_stages) {
         const double creep = st.final_deformation_m - st.instant_deformation_m;
         std::printf("S=%.2f instant %.4f mm creep %.4f mm elastic %.3f first30 %.2f accel %d conv %d  curve:", st.stress_level,

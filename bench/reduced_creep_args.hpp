@@ -2,10 +2,10 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax b1 b2 fth relax t0(s) nf rcap drive(0 capped peak
+// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax b1 b2 fth bmu (bond friction) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa; 0 = unbreakable) relax t0(s) nf rcap drive(0 capped peak
 //       force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
-//       crushable grains) s3(kPa) hours verbose; creep holds (engine/protocol/creep_hold.hpp):
+//       crushable grains) s3(kPa) hours shear (1: no creep) verbose; creep holds (engine/protocol/creep_hold.hpp):
 //       rest (1: the convention at rest, HoldOptions::at_rest, with the gain and bound given)
 //       gain (1 adaptive servo gain, 0 base: default) adload ramp restb (rest bound, strain per
 //       1000 cycles) restk (rest window, chunks) drift qs noov
@@ -25,7 +25,8 @@ struct ReducedCreepArgs {
     double hours = 4.0;         // each of the 4 stages
     double sigma3_kpa = 100.0;
     bool verbose = false;
-    int verbose_level = 0;  // verbose=2: also the per-piece schedule log
+    int verbose_level = 0;
+    bool shear_only = false;  // shear=1: consolidation and shear only (q_f, no creep)  // verbose=2: also the per-piece schedule log
     protocol::HoldOptions hold;  // the creep holds' servo and reading convention (default: the protocol's)
 };
 
@@ -78,6 +79,10 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "fth") s.creep.damage_threshold = v;
     else if (k == "dmax") s.creep.wear_max = v;
     else if (k == "b1") s.creep.damage_rate_b1_per_s = v;
+    else if (k == "bmu") s.micro.bond_friction = v;
+    else if (k == "sigc") s.micro.crushing_strength_pa = v * 1e6;
+    else if (k == "bss") s.micro.bond_shear_strength_pa = v * 1e3;
+    else if (k == "bns") s.micro.bond_normal_strength_pa = v * 1e3;
     else if (k == "relax") s.creep.max_relaxation_per_increment = v;
     else if (k == "t0") s.creep.grain_fatigue_time_s = v;
     else if (k == "nf") s.creep.grain_fatigue_exponent = v;
@@ -93,6 +98,7 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "spread") s.creep.grain_fatigue_strength_spread = v != 0;
     else if (k == "crush") { if (v != 0) s.micro = protocol::paper_group("C").micro; }
     else if (k == "hours") a.hours = v;
+    else if (k == "shear") a.shear_only = v != 0;
     else if (k == "seed") s.seed = static_cast<std::uint64_t>(v);
     else if (k == "dmm") { s.specimen.diameter_m = v / 1000; s.specimen.height_m = 2 * v / 1000; }
     else if (k == "rmin_mm") s.gradation.r_min_m = v / 1000;

@@ -25,6 +25,11 @@ struct ContactLaw {
     // created by World::bond_contacts; these are the default strengths it uses.
     double bond_normal_strength = 0.0;  // N
     double bond_shear_strength = 0.0;   // N
+    // Friction of an intact bond's shear strength (Mohr-Coulomb bond, like the cohesion +
+    // sigma tan(phi) shear strength of PFC's parallel bond and flat joint): a bonded
+    // contact in compression breaks in shear at ss (1 - damage) + bond_friction Fn.
+    // 0 = PFC contact bond (breaks at ss whatever the normal force).
+    double bond_friction = 0.0;
 
     void validate(const char* where) const;
 };
@@ -62,6 +67,7 @@ inline void ContactLaw::validate(const char* where) const {
     if (!(rolling_stiffness_factor >= 0)) bad("rolling_stiffness_factor", "must be >= 0");
     if (!(bond_normal_strength >= 0)) bad("bond_normal_strength", "must be >= 0 N");
     if (!(bond_shear_strength >= 0)) bad("bond_shear_strength", "must be >= 0 N");
+    if (!(bond_friction >= 0)) bad("bond_friction", "must be >= 0");
 }
 
 }  // namespace triax

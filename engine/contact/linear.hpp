@@ -7,7 +7,8 @@
 //   Fs <- rotate(Fs) - ks * v_s dt,  |Fs| <= mu (1 - wear) Fn  (Coulomb slider, unbonded
 //     only; wear = asperity wear of the creep mechanism, 0 for a fresh contact)
 //   contact bond (if intact): tension allowed; breaks when -Fn_el >= sn (1 - damage)
-//     (tension) or |Fs| >= ss (1 - damage) (shear); then frictional.
+//     (tension) or |Fs| >= ss (1 - damage) + mu_b max(Fn_el, 0) (shear; mu_b = bond
+//     friction, 0 for PFC's contact bond); then frictional.
 //   rolling resistance (kRolling): M <- rotate(M) - kr dtheta_b,  kr = f ks Rbar^2,
 //     |M| <= mu_r Rbar Fn.
 // kStateEnergy: whether to return the springs' stored energy (strain, bond_strain). It is
@@ -18,6 +19,7 @@
 #include "engine/contact/contact_law.hpp"
 #include "engine/core/types.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -25,10 +27,10 @@ namespace triax {
 
 struct LinearContact {
     struct Params {
-        double kn, ks, friction, damping_ratio, rolling_friction, rolling_stiffness_factor;
+        double kn, ks, friction, damping_ratio, rolling_friction, rolling_stiffness_factor, bond_friction;
         static Params from(const ContactLaw& l) {
             return {l.kn, l.ks, l.friction, l.normal_damping_ratio, l.rolling_friction,
-                    l.rolling_stiffness_factor};
+                    l.rolling_stiffness_factor, l.bond_friction};
         }
     };
 
@@ -117,7 +119,7 @@ struct LinearContact {
             if (-fn_el >= h.bond_normal_strength * keep) {
                 bonded = false;
                 out.broke_tension = true;
-            } else if (norm_at_least(fs.squaredNorm(), h.bond_shear_strength * keep)) {
+            } else if (norm_at_least(fs.squaredNorm(), h.bond_shear_strength * keep + p.bond_friction * std::max(fn_el, 0.0))) {
                 bonded = false;
                 out.broke_shear = true;
             }

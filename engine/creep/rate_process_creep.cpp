@@ -68,7 +68,10 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
         if (grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
         const ContactLaw& law = world.contact_law_of(k);
         const double fs = c.shear_force[k].norm();
-        const double f = mobilisation(c, law, k);
+        // A Mohr-Coulomb bond holds its contact: no slider, so no delayed slip while it
+        // is intact; its time dependence is the bond's corrosion.
+        const bool coulomb_bond = law.bond_friction > 0.0 && c.bonded[k];
+        const double f = coulomb_bond ? -1.0 : mobilisation(c, law, k);
         if (f > 0.0) {
             ++frictional;
             carried += fs;
@@ -111,11 +114,42 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
             if (p_.bond_corrosion_b1_per_s > 0.0) {
                 const double fn = c.normal_force[k];
                 const double tn = c.bond_normal_strength[k], ss = c.bond_shear_strength[k];
-                const double rho = std::max(tn > 0.0 ? std::max(0.0, -fn) / tn : 0.0, ss > 0.0 ? fs / ss : 0.0);
-                if (rho > p_.bond_corrosion_threshold) {
-                    dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
-                    ++out.bonds_damaged;
-                    if constexpr (kApply) c.damage[k] = dmg;
+                if (coulomb_bond) {
+                    // Utilisation of the bond's present (corroded) strength, as in Potyondy's
+                    // parallel-bond stress corrosion, where the bond stress rises as the bond
+                    // shrinks: a loaded bond corrodes ever faster until it breaks (rho = 1,
+                    // at the next DEM cycle). Integrated at fixed forces by midpoint sub-steps
+                    // of at most 0.01 damage, so the result does not depend on the increment.
+                    const double mu_b = law.bond_friction;
+                    auto utilisation = [&](double d) {
+                        const double keep = std::max(1e-12, 1.0 - d);
+                        const double shear_strength = ss * keep + mu_b * std::max(0.0, fn);
+                        return std::max(tn > 0.0 ? std::max(0.0, -fn) / (tn * keep) : 0.0,
+                                        shear_strength > 0.0 ? fs / shear_strength : 0.0);
+                    };
+                    auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
+                    double left = dt;
+                    bool grew = false;
+                    while (left > 0.0 && dmg < 1.0) {
+                        const double rho = utilisation(dmg);
+                        if (!(rho > p_.bond_corrosion_threshold) || rho >= 1.0) break;
+                        const double rate = rate_at(rho);
+                        const double h = std::min(left, 0.01 / rate);
+                        dmg = std::min(1.0, dmg + rate_at(utilisation(dmg + 0.5 * rate * h)) * h);
+                        left -= h;
+                        grew = true;
+                    }
+                    if (grew) {
+                        ++out.bonds_damaged;
+                        if constexpr (kApply) c.damage[k] = dmg;
+                    }
+                } else {
+                    const double rho = std::max(tn > 0.0 ? std::max(0.0, -fn) / tn : 0.0, ss > 0.0 ? fs / ss : 0.0);
+                    if (rho > p_.bond_corrosion_threshold) {
+                        dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
+                        ++out.bonds_damaged;
+                        if constexpr (kApply) c.damage[k] = dmg;
+                    }
                 }
             }
             damage_sum += dmg;

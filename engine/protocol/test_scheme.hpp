@@ -54,6 +54,9 @@ struct MicroParameters {
     // moisture relation (engine/creep/moisture_bond.hpp). Force = strength x r_min^2.
     double bond_normal_strength_pa = 40.0e3;
     double bond_shear_strength_pa = 40.0e3;
+    // Friction of the intact bond's shear strength, ss + bond_friction Fn (Mohr-Coulomb
+    // bond, docs/creep.md "Bond cohesion and its corrosion"); 0 = PFC contact bond.
+    double bond_friction = 0.0;
     // Membrane: bonded particles of one size, force but no moment.
     double membrane_particle_radius_m = 0.0;     // 0 = automatic (about r_min of the soil, >= 1 mm)
     double membrane_stiffness_n_m = 2.0e4;       // bond spring between membrane particles

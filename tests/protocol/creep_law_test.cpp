@@ -247,3 +247,67 @@ TEST_CASE("flow slip wears the asperities over the flow wear length", "[protocol
     REQUIRE(slip > 0.0);
     CHECK(c.asperity_wear[0] == Approx(0.5 * (1 - std::exp(-slip / 1e-7))));
 }
+
+// Stress corrosion of a Mohr-Coulomb bond (docs/creep.md, "Bond cohesion and its
+// corrosion"): it is driven by the utilisation of the bond's present strength,
+// rho = |Fs| / (ss (1 - D) + mu_b Fn), so a loaded bond corrodes ever faster until rho
+// reaches 1 and the DEM breaks it; the integration does not depend on the increments;
+// the bond holds its contact (no delayed slip while it is intact).
+TEST_CASE("a Mohr-Coulomb bond corrodes ever faster until it breaks, whatever the increments", "[protocol][creep]") {
+    auto bonded_pair = [] {
+        World w;
+        ContactLaw law;
+        law.kn = 1e6;
+        law.ks = 5e5;
+        law.friction = 0.4;
+        law.bond_friction = 0.4;
+        w.set_default_contact_law(law);
+        w.add_sphere(Vec3(0, 0, 0), 1e-3, 2600.0);
+        w.add_sphere(Vec3(1.999e-3, 0, 0), 1e-3, 2600.0);  // Fn = 1 N
+        for (int k = 0; k < 2; ++k) w.particles().flags[k] |= kFixedVelocity;
+        w.set_time_step(1e-7);
+        w.cycle(1);
+        auto& c = w.contacts();
+        c.bonded[0] = 1;
+        c.bond_shear_strength[0] = 1.0;
+        c.bond_normal_strength[0] = 10.0;
+        c.shear_force[0] = Vec3(0, 1.2, 0);  // strength 1.0 + 0.4 x 1 = 1.4 N: rho = 0.857
+        return w;
+    };
+    auto p = base();  // delayed slip on: a bonded contact must not use it
+    p.bond_corrosion_b1_per_s = 1e-9;
+    p.bond_corrosion_b2 = 10.0;
+    p.bond_corrosion_threshold = 0.8;
+    creep::RateProcessCreep law(p);
+    World one = bonded_pair(), many = bonded_pair();
+    law.advance(one, 3600.0);
+    for (int k = 0; k < 100; ++k) law.advance(many, 36.0);
+    const double d1 = one.contacts().damage[0];
+    CHECK(d1 > 0.0);
+    CHECK(d1 == Approx(many.contacts().damage[0]).epsilon(0.02));
+    CHECK(one.contacts().creep_slip[0] == 0.0);
+    CHECK(one.contacts().shear_force[0].norm() == 1.2);
+    // Accelerating: the second hour corrodes more than the first.
+    law.advance(one, 3600.0);
+    CHECK(one.contacts().damage[0] - d1 > d1);
+    // It breaks once ss (1 - D) + 0.4 <= 1.2, i.e. D >= 0.2, and not before.
+    World w = bonded_pair();
+    double t = 0.0;
+    while (w.contacts().damage[0] < 0.2 && t < 1e6) {
+        law.advance(w, 600.0);
+        t += 600.0;
+        if (w.contacts().damage[0] < 0.19) {
+            w.cycle(1);
+            REQUIRE(w.intact_bond_count() == 1);
+        }
+    }
+    CHECK(t < 1e6);
+    w.cycle(1);
+    CHECK(w.intact_bond_count() == 0);
+    CHECK(w.broken_bonds_shear() == 1);
+    // Below the threshold (rho = 0.71) nothing corrodes.
+    World low = bonded_pair();
+    low.contacts().shear_force[0] = Vec3(0, 1.0, 0);
+    law.advance(low, 86400.0);
+    CHECK(low.contacts().damage[0] == 0.0);
+}
