@@ -2,8 +2,9 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax b1 b2 fth bmu (bond friction) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa; 0 = unbreakable) relax t0(s) nf rcap drive(0 capped peak
-//       force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
+// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax b1 b2 fth
+//       bmu (bond friction) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
+//       0 = unbreakable) relax t0(s) nf rcap drive(0 capped peak force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
 //       crushable grains) s3(kPa) hours shear (1: no creep) verbose; creep holds (engine/protocol/creep_hold.hpp):
 //       rest (1: the convention at rest, HoldOptions::at_rest, with the gain and bound given)
@@ -25,8 +26,8 @@ struct ReducedCreepArgs {
     double hours = 4.0;         // each of the 4 stages
     double sigma3_kpa = 100.0;
     bool verbose = false;
-    int verbose_level = 0;
-    bool shear_only = false;  // shear=1: consolidation and shear only (q_f, no creep)  // verbose=2: also the per-piece schedule log
+    int verbose_level = 0;  // verbose=2: also the per-piece schedule log
+    bool shear_only = false;  // shear=1: consolidation and shear only (q_f, no creep)
     protocol::HoldOptions hold;  // the creep holds' servo and reading convention (default: the protocol's)
 };
 
