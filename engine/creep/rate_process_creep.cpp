@@ -27,6 +27,16 @@ double mobilisation(const ContactStore& c, const ContactLaw& law, std::size_t k)
     if (!(fn > 0.0) || !(mu > 0.0) || !(law.ks > 0.0)) return -1.0;
     return std::min(1.0, fs / (mu * fn));
 }
+
+// Utilisation of a bond's present strength: the larger of tension over the corroded
+// tensile strength and shear over the corroded shear strength, ss keep + mu_b Fn (mu_b 0:
+// PFC's contact bond). keep = 1 - D; with keep 1 and mu_b 0 this is the plain ratio of
+// the uncorroded bond.
+double bond_utilisation(double fn, double fs, double tn, double ss, double mu_b, double keep) {
+    const double shear_strength = ss * keep + mu_b * std::max(0.0, fn);
+    return std::max(tn > 0.0 ? std::max(0.0, -fn) / (tn * keep) : 0.0,
+                    shear_strength > 0.0 ? fs / shear_strength : 0.0);
+}
 }  // namespace
 
 void RateProcessCreep::age(World& world) const {
@@ -122,10 +132,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                     // of at most 0.01 damage, so the result does not depend on the increment.
                     const double mu_b = law.bond_friction;
                     auto utilisation = [&](double d) {
-                        const double keep = std::max(1e-12, 1.0 - d);
-                        const double shear_strength = ss * keep + mu_b * std::max(0.0, fn);
-                        return std::max(tn > 0.0 ? std::max(0.0, -fn) / (tn * keep) : 0.0,
-                                        shear_strength > 0.0 ? fs / shear_strength : 0.0);
+                        return bond_utilisation(fn, fs, tn, ss, mu_b, std::max(1e-12, 1.0 - d));
                     };
                     auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
                     double left = dt;
@@ -144,7 +151,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                         if constexpr (kApply) c.damage[k] = dmg;
                     }
                 } else {
-                    const double rho = std::max(tn > 0.0 ? std::max(0.0, -fn) / tn : 0.0, ss > 0.0 ? fs / ss : 0.0);
+                    const double rho = bond_utilisation(fn, fs, tn, ss, 0.0, 1.0);
                     if (rho > p_.bond_corrosion_threshold) {
                         dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
                         ++out.bonds_damaged;
