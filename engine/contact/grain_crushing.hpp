@@ -82,8 +82,12 @@ struct CrushSummary {
 // One pass over the ball-ball contacts between grains [0, n_grains): each contact whose
 // elastic force exceeds its yield force crushes (return map above). crush_force[i] is
 // grain i's F_c; kn the grains' normal stiffness. Serial, in slot order (deterministic).
+// friction_loss: a crushed contact's friction drops to mu (1 - friction_loss) (the
+// comminuted fragments at the contact roll and lose their interlocking); it is stored as
+// the contact's asperity wear, so it lasts as long as the contact. 0 = friction kept.
 inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, int n_grains,
-                                   const std::vector<double>& crush_force, double kn, double h) {
+                                   const std::vector<double>& crush_force, double kn, double h,
+                                   double friction_loss = 0.0) {
     CrushSummary sum;
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
@@ -96,6 +100,7 @@ inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, in
         if (s.plastic_increment <= 0.0) continue;
         c.creep_normal_offset[k] = delta_p + s.plastic_increment;
         c.normal_force[k] -= kn * s.plastic_increment;
+        if (friction_loss > 0.0) c.asperity_wear[k] = std::max(c.asperity_wear[k], friction_loss);
         ++sum.crushing;
         sum.dissipated_j += s.dissipated;
     }

@@ -239,7 +239,8 @@ void Specimen::cycle(long n, double confining_pa) {
         world_.cycle(std::min<long>(kMembraneUpdateEvery, n - done));
         if (crushing_on_) {
             const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_now_,
-                                                  soil_kn_, scheme_.micro.crushing_hardening_ratio);
+                                                  soil_kn_, scheme_.micro.crushing_hardening_ratio,
+                                                  scheme_.micro.crushing_friction_loss);
             crushing_events_ += c.crushing;
             world_.energy().breakage += c.dissipated_j;
         }

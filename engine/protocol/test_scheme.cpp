@@ -42,6 +42,8 @@ void TestScheme::validate() const {
             "micro.crushing_weibull_modulus", "must be in [1, 50]");
     require(micro.crushing_hardening_ratio > 0.0 && micro.crushing_hardening_ratio <= 10.0,
             "micro.crushing_hardening_ratio", "must be in (0, 10]");
+    require(micro.crushing_friction_loss >= 0.0 && micro.crushing_friction_loss < 1.0, "micro.crushing_friction_loss",
+            "must be in [0, 1) (0 = a crushed contact keeps its friction)");
     require(creep.slip_rate_a_m_s >= 0.0, "creep.slip_rate_a_m_s", "must be >= 0");
     require(creep.slip_beta > 0.0, "creep.slip_beta", "must be > 0");
     require(creep.slip_hardening_length_m > 0.0, "creep.slip_hardening_length_m", "must be > 0");

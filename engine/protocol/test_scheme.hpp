@@ -73,6 +73,9 @@ struct MicroParameters {
     double crushing_reference_diameter_m = 0.01; // d0
     double crushing_weibull_modulus = 5.0;       // m
     double crushing_hardening_ratio = 0.02;      // h
+    // A crushed contact's friction drops to mu (1 - loss): its fragments roll and lose
+    // their interlocking (0 = kept; docs/creep.md "Bonds in the presets' crushable skeleton").
+    double crushing_friction_loss = 0.0;
 };
 
 // Time-dependent contact mechanism (docs/creep.md): rate-process delayed slip at the

@@ -112,6 +112,40 @@ TEST_CASE("crushing contact: plastic overlap stays after unloading (lost volume)
     CHECK(crush_contacts(c, pa, 1, f_c, kn, h).crushing == 0);
 }
 
+TEST_CASE("crushing friction loss: a contact that crushes keeps mu (1 - loss), one that does not keeps mu",
+          "[crushing]") {
+    ParticleArrays pa;
+    const double r = 0.005, kn = 1.0e6, h = 0.02, loss = 0.5;
+    pa.add(Vec3(0, 0, 0), r, 2600.0, 0);
+    pa.add(Vec3(0, 0, 2 * r), r, 2600.0, 0);
+    ContactStore c;
+    c.resize(1);
+    c.reset_history(0);
+    c.i[0] = 0;
+    c.j[0] = 1;
+    c.active[0] = 1;
+    const std::vector<double> f_c = {200.0, 30.0};
+    // 20 N: below the weaker grain's 30 N, no crushing, friction kept.
+    pa.position[1].z() = 2 * r - 20.0 / kn;
+    CHECK(crush_contacts(c, pa, 2, f_c, kn, h, loss).crushing == 0);
+    CHECK(c.asperity_wear[0] == 0.0);
+    // 50 N: it crushes and its friction drops to mu (1 - loss).
+    pa.position[1].z() = 2 * r - 50.0 / kn;
+    CHECK(crush_contacts(c, pa, 2, f_c, kn, h, loss).crushing == 1);
+    CHECK(c.asperity_wear[0] == loss);
+    // A contact already worn further by creep keeps its larger wear.
+    c.asperity_wear[0] = 0.7;
+    pa.position[1].z() -= 10.0 / kn;
+    CHECK(crush_contacts(c, pa, 2, f_c, kn, h, loss).crushing == 1);
+    CHECK(c.asperity_wear[0] == 0.7);
+    // Without the option (the default) crushing leaves the friction alone.
+    c.reset_history(0);
+    c.active[0] = 1;
+    pa.position[1].z() = 2 * r - 50.0 / kn;
+    CHECK(crush_contacts(c, pa, 2, f_c, kn, h).crushing == 1);
+    CHECK(c.asperity_wear[0] == 0.0);
+}
+
 // ---- static fatigue (delayed crushing) ------------------------------------------------
 
 TEST_CASE("static fatigue: exact update at fixed force, finite life t0 r^-n / (n + 1)", "[crushing][fatigue]") {

@@ -47,6 +47,9 @@ TEST_CASE("scheme round trip keeps every field", "[protocol][io]") {
     CHECK(protocol::TestScheme{}.micro.bond_friction == 0.0);
     s.micro.bond_friction = 0.4;
     CHECK(io::scheme_from_json(io::scheme_to_json(s)).micro.bond_friction == Approx(0.4));
+    CHECK(protocol::TestScheme{}.micro.crushing_friction_loss == 0.0);
+    s.micro.crushing_friction_loss = 0.5;
+    CHECK(io::scheme_from_json(io::scheme_to_json(s)).micro.crushing_friction_loss == Approx(0.5));
 }
 
 TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
@@ -64,6 +67,7 @@ TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
     CHECK(field_of({{"loading", {{"confining_kpa", 100}}}}) == "/loading/confining_kpa");
     CHECK(field_of({{"micro", {{"crushing_weibull_modulus", 0.5}}}}) == "/micro/crushing_weibull_modulus");
     CHECK(field_of({{"micro", {{"bond_friction", -0.1}}}}) == "/micro/bond_friction");
+    CHECK(field_of({{"micro", {{"crushing_friction_loss", 1.0}}}}) == "/micro/crushing_friction_loss");
     CHECK(field_of({{"loading", {{"stress_levels", {0.1, 0.4}}, {"stage_durations_min", {60}}}}}) ==
           "/loading/stage_durations_min");
     CHECK(field_of({{"gradation", {{"sieve_curve", {{{"size_mm", 2}, {"passing_pct", 50}}, {{"size_mm", 1}, {"passing_pct", 60}}}}}}}) ==
