@@ -12,6 +12,24 @@
 using namespace triax;
 
 namespace {
+// Two grains of radius r stacked on z, just touching, with one active contact (slot 0)
+// between them; tests press grain 1 down to load it.
+struct TwoGrains {
+    ParticleArrays pa;
+    ContactStore c;
+};
+TwoGrains two_grains_touching(double r) {
+    TwoGrains g;
+    g.pa.add(Vec3(0, 0, 0), r, 2600.0, 0);
+    g.pa.add(Vec3(0, 0, 2 * r), r, 2600.0, 0);
+    g.c.resize(1);
+    g.c.reset_history(0);
+    g.c.i[0] = 0;
+    g.c.j[0] = 1;
+    g.c.active[0] = 1;
+    return g;
+}
+
 // Three grains in a chain, 0-1 and 1-2 in contact with the given normal forces (N).
 ContactStore grain_chain(double f01, double f12) {
     ContactStore c;
@@ -75,16 +93,8 @@ TEST_CASE("crush return map: elastic below F_c, on the hardening line above, ene
 }
 
 TEST_CASE("crushing contact: plastic overlap stays after unloading (lost volume), weaker grain decides", "[crushing]") {
-    ParticleArrays pa;
     const double r = 0.005, kn = 1.0e6, h = 0.1;
-    pa.add(Vec3(0, 0, 0), r, 2600.0, 0);
-    pa.add(Vec3(0, 0, 2 * r), r, 2600.0, 0);
-    ContactStore c;
-    c.resize(1);
-    c.reset_history(0);
-    c.i[0] = 0;
-    c.j[0] = 1;
-    c.active[0] = 1;
+    auto [pa, c] = two_grains_touching(r);
     const std::vector<double> f_c = {200.0, 30.0};  // grain 1 is the weaker
     // Load in small overlap steps to 100 um: the force (elastic part) would be 100 N.
     double dissipated = 0.0;
@@ -114,16 +124,8 @@ TEST_CASE("crushing contact: plastic overlap stays after unloading (lost volume)
 
 TEST_CASE("crushing friction loss: a contact that crushes keeps mu (1 - loss), one that does not keeps mu",
           "[crushing]") {
-    ParticleArrays pa;
     const double r = 0.005, kn = 1.0e6, h = 0.02, loss = 0.5;
-    pa.add(Vec3(0, 0, 0), r, 2600.0, 0);
-    pa.add(Vec3(0, 0, 2 * r), r, 2600.0, 0);
-    ContactStore c;
-    c.resize(1);
-    c.reset_history(0);
-    c.i[0] = 0;
-    c.j[0] = 1;
-    c.active[0] = 1;
+    auto [pa, c] = two_grains_touching(r);
     const std::vector<double> f_c = {200.0, 30.0};
     // 20 N: below the weaker grain's 30 N, no crushing, friction kept.
     pa.position[1].z() = 2 * r - 20.0 / kn;
