@@ -43,6 +43,15 @@ struct CreepStageResult {
     int instant_failed_grains = 0;       // of them, broken at once at the stage's loading step (instant crushing)
 };
 
+// Deformation (m) on a stage's translated curve at stage time t_s: the last reading at or
+// before t_s (readings are what the lab has; no interpolation between them).
+inline double deformation_at(const CreepStageResult& st, double t_s) {
+    double d = st.translated.front().axial_deformation_m;
+    for (const auto& p : st.translated)
+        if (p.time_s <= t_s) d = p.axial_deformation_m;
+    return d;
+}
+
 // One sample of the energy ledger (cumulative, J).
 struct EnergySample {
     int phase_index = 0;                 // 0 consolidation, 1 shear, 2.. creep stages

@@ -424,17 +424,10 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             st.final_deformation_m = st.translated.back().axial_deformation_m;
             const double creep_part = st.final_deformation_m - st.instant_deformation_m;
             st.elastic_share = st.final_deformation_m > 0.0 ? st.instant_deformation_m / st.final_deformation_m : 1.0;
-            double d30 = st.final_deformation_m;
-            for (const auto& p : st.translated)
-                if (p.time_s <= 1800.0) d30 = p.axial_deformation_m;
+            const double d30 = deformation_at(st, 1800.0);
             st.share_in_first_30min = creep_part > 0.0 ? std::clamp((d30 - st.instant_deformation_m) / creep_part, 0.0, 1.0) : 1.0;
             // Late behaviour: creep in the last fifth vs the fifth before it.
-            auto at = [&](double time) {
-                double d = st.translated.front().axial_deformation_m;
-                for (const auto& p : st.translated)
-                    if (p.time_s <= time) d = p.axial_deformation_m;
-                return d;
-            };
+            auto at = [&](double time) { return deformation_at(st, time); };
             const double T = t;
             const double late = at(T) - at(0.8 * T), before = at(0.8 * T) - at(0.6 * T);
             st.accelerating = failed || (late > 1.3 * before && late > 0.05 * std::max(creep_part, 1e-12));
