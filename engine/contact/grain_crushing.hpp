@@ -18,6 +18,11 @@
 // delta_p (the crushed volume is lost, i.e. contraction of the skeleton); unloading is
 // elastic from the shifted zero. The return map is exact for this bilinear law:
 //     d(delta_p) = (kn delta_e - F_y) / ((1 + h) kn)     when kn delta_e > F_y.
+// Softening (h < 0, an option; docs/creep.md "Crushing that softens"): the yield force
+// falls as the grain crushes, F_y = max(rho F_c, F_c + h kn delta_p), down to a residual
+// rho F_c: the split grain's fragments no longer bridge the gap and the contact sheds its
+// load to its neighbours (the load path goes with the grain). On the falling branch the
+// same return map holds (1 + h > 0); past the residual it is perfectly plastic at rho F_c.
 // The spring energy it releases, 0.5 kn (delta_e^2 - (delta_e - d(delta_p))^2), is the
 // breakage energy (EnergyLedger::breakage): the work that went into new fracture surface
 // and fragment rearrangement, dissipated, not stored.
@@ -41,7 +46,8 @@ struct GrainCrushingParams {
     double strength_pa = 0.0;          // sigma0: characteristic strength at d0 (0 = off)
     double reference_diameter_m = 0.01; // d0
     double weibull_modulus = 5.0;      // m: spread of strengths and size effect (-3/m)
-    double hardening_ratio = 0.02;     // h: post-crushing stiffness ratio (tangent h/(1+h) kn)
+    double hardening_ratio = 0.02;     // h: post-crushing stiffness ratio (tangent h/(1+h) kn); < 0 softens
+    double residual_ratio = 0.0;       // rho: a softening contact's yield force ends at rho F_c (h < 0 only)
     bool enabled() const { return strength_pa > 0.0; }
 };
 
@@ -62,13 +68,18 @@ struct CrushStep {
 };
 
 // Return map of one contact: elastic overlap delta_e (m, after the current delta_p),
-// accumulated delta_p, crushing force F_c, normal stiffness kn, hardening ratio h.
-inline CrushStep crush_return_map(double delta_e, double delta_p, double f_c, double kn, double h) {
+// accumulated delta_p, crushing force F_c, normal stiffness kn, hardening ratio h (> -1),
+// residual ratio rho (used when h < 0).
+inline CrushStep crush_return_map(double delta_e, double delta_p, double f_c, double kn, double h,
+                                  double residual_ratio = 0.0) {
     CrushStep s;
     const double f_el = kn * delta_e;
-    const double f_y = f_c + h * kn * delta_p;
+    const double f_res = residual_ratio * f_c;
+    const double f_y = std::max(f_res, f_c + h * kn * delta_p);
     if (delta_e <= 0.0 || f_el <= f_y) return s;
     s.plastic_increment = (f_el - f_y) / ((1.0 + h) * kn);
+    // Softening that runs past the residual: the rest of the step is perfectly plastic.
+    if (h < 0.0 && f_c + h * kn * (delta_p + s.plastic_increment) < f_res) s.plastic_increment = (f_el - f_res) / kn;
     const double after = delta_e - s.plastic_increment;
     s.dissipated = 0.5 * kn * (delta_e * delta_e - after * after);
     return s;
@@ -87,7 +98,7 @@ struct CrushSummary {
 // the contact's asperity wear, so it lasts as long as the contact. 0 = friction kept.
 inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, int n_grains,
                                    const std::vector<double>& crush_force, double kn, double h,
-                                   double friction_loss = 0.0) {
+                                   double friction_loss = 0.0, double residual_ratio = 0.0) {
     CrushSummary sum;
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
@@ -96,7 +107,7 @@ inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, in
         const double dist = (pa.position[j] - pa.position[i]).norm();
         const double delta_p = c.creep_normal_offset[k];
         const double delta_e = pa.radius[i] + pa.radius[j] - dist + c.reference_gap[k] - delta_p;
-        const CrushStep s = crush_return_map(delta_e, delta_p, std::min(crush_force[i], crush_force[j]), kn, h);
+        const CrushStep s = crush_return_map(delta_e, delta_p, std::min(crush_force[i], crush_force[j]), kn, h, residual_ratio);
         if (s.plastic_increment <= 0.0) continue;
         c.creep_normal_offset[k] = delta_p + s.plastic_increment;
         c.normal_force[k] -= kn * s.plastic_increment;

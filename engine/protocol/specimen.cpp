@@ -18,6 +18,7 @@ GrainCrushingParams crushing_params(const TestScheme& s) {
     p.reference_diameter_m = s.micro.crushing_reference_diameter_m;
     p.weibull_modulus = s.micro.crushing_weibull_modulus;
     p.hardening_ratio = s.micro.crushing_hardening_ratio;
+    p.residual_ratio = s.micro.crushing_residual_ratio;
     return p;
 }
 }  // namespace
@@ -240,7 +241,8 @@ void Specimen::cycle(long n, double confining_pa) {
         if (crushing_on_) {
             const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_now_,
                                                   soil_kn_, scheme_.micro.crushing_hardening_ratio,
-                                                  scheme_.micro.crushing_friction_loss);
+                                                  scheme_.micro.crushing_friction_loss,
+                                                  scheme_.micro.crushing_residual_ratio);
             crushing_events_ += c.crushing;
             world_.energy().breakage += c.dissipated_j;
         }

@@ -40,8 +40,10 @@ void TestScheme::validate() const {
     require(micro.crushing_reference_diameter_m > 0.0, "micro.crushing_reference_diameter_m", "must be > 0");
     require(micro.crushing_weibull_modulus >= 1.0 && micro.crushing_weibull_modulus <= 50.0,
             "micro.crushing_weibull_modulus", "must be in [1, 50]");
-    require(micro.crushing_hardening_ratio > 0.0 && micro.crushing_hardening_ratio <= 10.0,
-            "micro.crushing_hardening_ratio", "must be in (0, 10]");
+    require(micro.crushing_hardening_ratio > -1.0 && micro.crushing_hardening_ratio <= 10.0,
+            "micro.crushing_hardening_ratio", "must be in (-1, 10] (< 0 softens)");
+    require(micro.crushing_residual_ratio >= 0.0 && micro.crushing_residual_ratio <= 1.0,
+            "micro.crushing_residual_ratio", "must be in [0, 1]");
     require(micro.crushing_friction_loss >= 0.0 && micro.crushing_friction_loss < 1.0, "micro.crushing_friction_loss",
             "must be in [0, 1) (0 = a crushed contact keeps its friction)");
     require(creep.slip_rate_a_m_s >= 0.0, "creep.slip_rate_a_m_s", "must be >= 0");

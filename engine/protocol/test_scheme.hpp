@@ -72,7 +72,8 @@ struct MicroParameters {
     double crushing_strength_pa = 0.0;           // sigma0 at d0
     double crushing_reference_diameter_m = 0.01; // d0
     double crushing_weibull_modulus = 5.0;       // m
-    double crushing_hardening_ratio = 0.02;      // h
+    double crushing_hardening_ratio = 0.02;      // h (< 0: the yield force falls as the grain crushes)
+    double crushing_residual_ratio = 0.0;        // rho: where a softening (h < 0) contact's yield force ends, x F_c
     // A crushed contact's friction drops to mu (1 - loss): its fragments roll and lose
     // their interlocking (0 = kept; docs/creep.md "Bonds in the presets' crushable skeleton").
     double crushing_friction_loss = 0.0;

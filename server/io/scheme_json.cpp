@@ -56,6 +56,7 @@ const std::vector<NumberField>& number_fields() {
         {"micro", "crushing_reference_diameter_mm", "micro.crushing_reference_diameter_m", [](TestScheme& s) -> double& { return s.micro.crushing_reference_diameter_m; }, 1e-3},
         {"micro", "crushing_weibull_modulus", "micro.crushing_weibull_modulus", [](TestScheme& s) -> double& { return s.micro.crushing_weibull_modulus; }, 1.0},
         {"micro", "crushing_hardening_ratio", "micro.crushing_hardening_ratio", [](TestScheme& s) -> double& { return s.micro.crushing_hardening_ratio; }, 1.0},
+        {"micro", "crushing_residual_ratio", "micro.crushing_residual_ratio", [](TestScheme& s) -> double& { return s.micro.crushing_residual_ratio; }, 1.0},
         {"micro", "crushing_friction_loss", "micro.crushing_friction_loss", [](TestScheme& s) -> double& { return s.micro.crushing_friction_loss; }, 1.0},
         {"creep", "slip_rate_a_m_s", "creep.slip_rate_a_m_s", [](TestScheme& s) -> double& { return s.creep.slip_rate_a_m_s; }, 1.0},
         {"creep", "slip_beta", "creep.slip_beta", [](TestScheme& s) -> double& { return s.creep.slip_beta; }, 1.0},

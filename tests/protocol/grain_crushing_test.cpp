@@ -122,6 +122,30 @@ TEST_CASE("crushing contact: plastic overlap stays after unloading (lost volume)
     CHECK(crush_contacts(c, pa, 1, f_c, kn, h).crushing == 0);
 }
 
+TEST_CASE("softening crushing (h < 0): the yield force falls with delta_p to rho F_c, then stays there",
+          "[crushing]") {
+    const double kn = 1.0e6, f_c = 50.0, h = -0.1, rho = 0.2;
+    // On the falling branch the force after the map lies on F_c + h kn delta_p (above rho F_c).
+    const double delta_p0 = 10.0e-6, delta_e = 80.0 / kn;
+    const CrushStep s = crush_return_map(delta_e, delta_p0, f_c, kn, h, rho);
+    REQUIRE(s.plastic_increment > 0.0);
+    const double f_after = kn * (delta_e - s.plastic_increment);
+    CHECK(f_after == Approx(f_c + h * kn * (delta_p0 + s.plastic_increment)));
+    CHECK(f_after < f_c);  // a crushing contact sheds load: softer than the intact grain
+    CHECK(f_after > rho * f_c);
+    // Far along, the yield force has reached its residual: perfectly plastic at rho F_c.
+    const CrushStep far = crush_return_map(80.0 / kn, 500.0e-6, f_c, kn, h, rho);
+    CHECK(kn * (80.0 / kn - far.plastic_increment) == Approx(rho * f_c));
+    // A step that crosses the residual ends on it, not below it.
+    const CrushStep cross = crush_return_map(200.0 / kn, 300.0e-6, f_c, kn, h, rho);
+    CHECK(kn * (200.0 / kn - cross.plastic_increment) == Approx(rho * f_c));
+    // Idempotent on the line, and with h > 0 the residual changes nothing.
+    CHECK(crush_return_map(delta_e - s.plastic_increment, delta_p0 + s.plastic_increment, f_c, kn, h, rho)
+              .plastic_increment == Approx(0.0).margin(1e-15));
+    CHECK(crush_return_map(120.0 / kn, 5.0e-6, f_c, kn, 0.2, rho).plastic_increment ==
+          crush_return_map(120.0 / kn, 5.0e-6, f_c, kn, 0.2).plastic_increment);
+}
+
 TEST_CASE("crushing friction loss: a contact that crushes keeps mu (1 - loss), one that does not keeps mu",
           "[crushing]") {
     const double r = 0.005, kn = 1.0e6, h = 0.02, loss = 0.5;

@@ -50,6 +50,11 @@ TEST_CASE("scheme round trip keeps every field", "[protocol][io]") {
     CHECK(protocol::TestScheme{}.micro.crushing_friction_loss == 0.0);
     s.micro.crushing_friction_loss = 0.5;
     CHECK(io::scheme_from_json(io::scheme_to_json(s)).micro.crushing_friction_loss == Approx(0.5));
+    s.micro.crushing_hardening_ratio = -0.1;
+    s.micro.crushing_residual_ratio = 0.3;
+    const auto softening = io::scheme_from_json(io::scheme_to_json(s));
+    CHECK(softening.micro.crushing_hardening_ratio == Approx(-0.1));
+    CHECK(softening.micro.crushing_residual_ratio == Approx(0.3));
 }
 
 TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
@@ -68,6 +73,8 @@ TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
     CHECK(field_of({{"micro", {{"crushing_weibull_modulus", 0.5}}}}) == "/micro/crushing_weibull_modulus");
     CHECK(field_of({{"micro", {{"bond_friction", -0.1}}}}) == "/micro/bond_friction");
     CHECK(field_of({{"micro", {{"crushing_friction_loss", 1.0}}}}) == "/micro/crushing_friction_loss");
+    CHECK(field_of({{"micro", {{"crushing_residual_ratio", 1.5}}}}) == "/micro/crushing_residual_ratio");
+    CHECK(field_of({{"micro", {{"crushing_hardening_ratio", -1.0}}}}) == "/micro/crushing_hardening_ratio");
     CHECK(field_of({{"loading", {{"stress_levels", {0.1, 0.4}}, {"stage_durations_min", {60}}}}}) ==
           "/loading/stage_durations_min");
     CHECK(field_of({{"gradation", {{"sieve_curve", {{{"size_mm", 2}, {"passing_pct", 50}}, {{"size_mm", 1}, {"passing_pct", 60}}}}}}}) ==
