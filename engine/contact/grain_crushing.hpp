@@ -42,12 +42,11 @@
 
 namespace triax {
 
+// The grains' strengths; the contact law's h, rho and friction loss are crush_contacts' arguments.
 struct GrainCrushingParams {
     double strength_pa = 0.0;          // sigma0: characteristic strength at d0 (0 = off)
     double reference_diameter_m = 0.01; // d0
     double weibull_modulus = 5.0;      // m: spread of strengths and size effect (-3/m)
-    double hardening_ratio = 0.02;     // h: post-crushing stiffness ratio (tangent h/(1+h) kn); < 0 softens
-    double residual_ratio = 0.0;       // rho: a softening contact's yield force ends at rho F_c (h < 0 only)
     bool enabled() const { return strength_pa > 0.0; }
 };
 

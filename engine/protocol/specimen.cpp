@@ -17,8 +17,6 @@ GrainCrushingParams crushing_params(const TestScheme& s) {
     p.strength_pa = s.micro.crushing_strength_pa;
     p.reference_diameter_m = s.micro.crushing_reference_diameter_m;
     p.weibull_modulus = s.micro.crushing_weibull_modulus;
-    p.hardening_ratio = s.micro.crushing_hardening_ratio;
-    p.residual_ratio = s.micro.crushing_residual_ratio;
     return p;
 }
 }  // namespace
