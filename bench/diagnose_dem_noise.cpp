@@ -21,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "engine/diagnose/dem_forward_model.hpp"
 #include "engine/protocol/triaxial_test.hpp"
 #include "tests/support/reduced_specimen.hpp"
 
@@ -122,14 +123,14 @@ int main(int argc, char** argv) {
         // The diagnosis's mapping (dem_forward_model.cpp): sigma0 = 0.6 MPa / x.
         for (double x : {0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0}) {
             Case c{"crush x" + std::to_string(x).substr(0, 4), base};
-            c.scheme.micro.crushing_strength_pa = x > 0.0 ? triax::protocol::kPaperCrushingStrengthPa / x : 0.0;
+            c.scheme.micro.crushing_strength_pa = x > 0.0 ? triax::diagnose::kCrushabilityReferencePa / x : 0.0;
             cases.push_back(c);
         }
         for (std::uint64_t seed : {7, 13, 17})
             for (double x : {0.0, 1.0}) {
                 Case c{"s" + std::to_string(seed) + " crush x" + std::to_string(x).substr(0, 3), base};
                 c.scheme.seed = seed;
-                c.scheme.micro.crushing_strength_pa = x > 0.0 ? triax::protocol::kPaperCrushingStrengthPa / x : 0.0;
+                c.scheme.micro.crushing_strength_pa = x > 0.0 ? triax::diagnose::kCrushabilityReferencePa / x : 0.0;
                 cases.push_back(c);
             }
     }

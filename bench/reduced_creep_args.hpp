@@ -4,8 +4,8 @@
 // key=value overrides they accept. One place, so the two programs run the same specimen.
 // Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax b1 b2 fth
 //       bmu (bond friction) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
-//       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio; < 0 softens) cres (residual ratio of a softening contact) cfl (friction loss of a crushed contact) relax t0(s) nf rcap drive(0 capped peak force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
-//       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters,
+//       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio; < 0 softens) cres (residual ratio of a softening contact) cfl (friction loss of a crushed contact) cbb (1: a crushing contact loses its bond) relax t0(s) nf rcap drive(0 capped peak force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
+//       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters: bonds and
 //       crushable grains) s3(kPa) hours shear (1: no creep) verbose; creep holds (engine/protocol/creep_hold.hpp):
 //       rest (1: the convention at rest, HoldOptions::at_rest, with the gain and bound given)
 //       gain (1 adaptive servo gain, 0 base: default) adload ramp restb (rest bound, strain per
@@ -85,6 +85,7 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "wm") s.micro.crushing_weibull_modulus = v;
     else if (k == "ch") s.micro.crushing_hardening_ratio = v;
     else if (k == "cfl") s.micro.crushing_friction_loss = v;
+    else if (k == "cbb") s.micro.crushing_breaks_bond = v != 0;
     else if (k == "cres") s.micro.crushing_residual_ratio = v;
     else if (k == "bss") s.micro.bond_shear_strength_pa = v * 1e3;
     else if (k == "bns") s.micro.bond_normal_strength_pa = v * 1e3;

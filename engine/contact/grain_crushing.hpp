@@ -87,6 +87,7 @@ inline CrushStep crush_return_map(double delta_e, double delta_p, double f_c, do
 struct CrushSummary {
     long crushing = 0;          // contacts that crushed in this pass
     double dissipated_j = 0.0;  // breakage energy of the pass
+    long bonds_broken = 0;      // bonds of crushing contacts (breaks_bond)
 };
 
 // One pass over the ball-ball contacts between grains [0, n_grains): each contact whose
@@ -95,9 +96,15 @@ struct CrushSummary {
 // friction_loss: a crushed contact's friction drops to mu (1 - friction_loss) (the
 // comminuted fragments at the contact roll and lose their interlocking); it is stored as
 // the contact's asperity wear, so it lasts as long as the contact. 0 = friction kept.
+// breaks_bond: a bonded contact that crushes loses its bond. The cement or suction bridge
+// sits on the asperities that crush; the comminuted zone left behind is not cemented, so
+// the contact holds shear by friction only from then on. Without it, crushing caps a
+// bonded contact's normal force while its cohesion stays, and a skeleton whose bonds
+// corrode under creep load hands their load to grains that yield and compact instead of
+// to the next bonds (docs/creep.md, "Crushing that breaks the bond").
 inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, int n_grains,
                                    const std::vector<double>& crush_force, double kn, double h,
-                                   double friction_loss = 0.0, double residual_ratio = 0.0) {
+                                   double friction_loss = 0.0, double residual_ratio = 0.0, bool breaks_bond = false) {
     CrushSummary sum;
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
@@ -111,6 +118,10 @@ inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, in
         c.creep_normal_offset[k] = delta_p + s.plastic_increment;
         c.normal_force[k] -= kn * s.plastic_increment;
         if (friction_loss > 0.0) c.asperity_wear[k] = std::max(c.asperity_wear[k], friction_loss);
+        if (breaks_bond && c.bonded[k]) {
+            c.bonded[k] = 0;
+            ++sum.bonds_broken;
+        }
         ++sum.crushing;
         sum.dissipated_j += s.dissipated;
     }

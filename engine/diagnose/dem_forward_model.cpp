@@ -117,7 +117,7 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
         case Effect::RollingResistance: return {{"rolling_friction", "-", 0.0, 0.5, 0.1, false, true}};
         case Effect::BondDegradation: {
             // Grain crushing (engine/contact/grain_crushing.hpp) as a crushability
-            // x = sigma_ref / sigma0 (sigma_ref = the presets' 0.6 MPa): 0 = unbreakable
+            // x = sigma_ref / sigma0 (sigma_ref = 0.6 MPa, the presets' grain of sessions 8-11): 0 = unbreakable
             // grains (the model without the effect, so base runs seed the fit), 1 = the
             // presets' slaking-mudstone grains, 2 = sigma0 0.3 MPa. Linear in x: a grain's
             // crushing force is proportional to 1/x. It acts in shear (contraction growing

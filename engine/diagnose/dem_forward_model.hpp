@@ -30,9 +30,10 @@ namespace triax::diagnose {
 
 class DiagnoseObserver;
 
-// Grain crushability x = kCrushabilityReferencePa / crushing strength: x = 1 is the
-// paper-group presets' grain (0.6 MPa), x = kCrushabilityMax (0.3 MPa) the weakest tried.
-inline constexpr double kCrushabilityReferencePa = protocol::kPaperCrushingStrengthPa;
+// Grain crushability x = kCrushabilityReferencePa / crushing strength: x = 1 is a grain of
+// 0.6 MPa (the presets' grain of sessions 8-11, on which the diagnosis was calibrated),
+// x = kCrushabilityMax (0.3 MPa) the weakest tried.
+inline constexpr double kCrushabilityReferencePa = 0.6e6;
 inline constexpr double kCrushabilityMax = 2.0;
 
 class DemForwardModel final : public ForwardModel {

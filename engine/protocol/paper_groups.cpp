@@ -19,9 +19,24 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     s.gradation.kind = GradationSpec::Kind::RadiusRatio;
     s.gradation.r_min_m = 2.879e-3;
     s.gradation.radius_ratio = 2.0;
-    // Crushable grains (weak, slaking mudstone): the paper's contraction at 200 kPa
-    // (docs/protocol.md, "Finding (2)"); Weibull modulus and hardening keep the defaults.
+    // A cohesive, crushable fill (docs/creep.md, "Crushing that breaks the bond"):
+    // - Crushable grains (weak, slaking mudstone): the paper's contraction at 200 kPa
+    //   (docs/protocol.md, "Finding (2)"); Weibull modulus and hardening keep the defaults.
+    // - The fill's cohesion (Table 1: c = 25 kPa) carried by Mohr-Coulomb bonds (cemented
+    //   fines, suction), scaled by the moisture relation for D and E; their strength was
+    //   chosen on the creep regimes, not fitted to c. A PFC contact bond of the
+    //   scheme default breaks at its shear strength whatever the normal force and adds no
+    //   cohesion under compression.
+    // - A contact that crushes loses its bond: the cement sits on the asperities that crush.
+    // - The bonds' stress corrosion at b1 = 3e-10 1/s: S = 0.8 lies above the strength the
+    //   skeleton keeps once its over-loaded bonds have corroded, so it creeps on and
+    //   speeds up late (tertiary), while S = 0.4 and 0.6 converge.
     s.micro.crushing_strength_pa = kPaperCrushingStrengthPa;
+    s.micro.crushing_breaks_bond = true;
+    s.micro.bond_friction = kPaperBondFriction;
+    s.micro.bond_normal_strength_pa = kPaperBondStrengthPa;
+    s.micro.bond_shear_strength_pa = kPaperBondStrengthPa;
+    s.creep.damage_rate_b1_per_s = kPaperBondCorrosionB1PerS;
     // The paper's groups last about 10 days for 4 stages: 2.5 days per stage.
     s.loading.stage_durations_s = {2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0};
     return s;

@@ -240,7 +240,8 @@ void Specimen::cycle(long n, double confining_pa) {
             const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_now_,
                                                   soil_kn_, scheme_.micro.crushing_hardening_ratio,
                                                   scheme_.micro.crushing_friction_loss,
-                                                  scheme_.micro.crushing_residual_ratio);
+                                                  scheme_.micro.crushing_residual_ratio,
+                                                  scheme_.micro.crushing_breaks_bond);
             crushing_events_ += c.crushing;
             world_.energy().breakage += c.dissipated_j;
         }

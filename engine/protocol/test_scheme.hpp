@@ -39,8 +39,15 @@ struct GradationSpec {
 // as the normal and shear effective contact moduli in MPa (docs/parameters.md): the
 // linear normal stiffness of a pair is kn = pi * r_eff * E_n / 2 and ks likewise with E_s.
 // Crushing strength of the paper's grains (disintegrated carbonaceous mudstone), used by
-// the paper-group presets (docs/protocol.md, "Finding (2)").
-constexpr double kPaperCrushingStrengthPa = 0.6e6;
+// the paper-group presets (docs/protocol.md, "Finding (2)"; 0.6 MPa before session 12, when
+// the presets' grains carried no cohesion: the bonds raise the contact forces by 30-40 %).
+constexpr double kPaperCrushingStrengthPa = 1.0e6;
+// The presets' Mohr-Coulomb bonds (the fill's cohesion; Table 1 gives c = 25 kPa) and their
+// corrosion rate; the strength was chosen on the creep regimes, not fitted to c
+// (docs/creep.md, "Crushing that breaks the bond").
+constexpr double kPaperBondStrengthPa = 500.0e3;
+constexpr double kPaperBondFriction = 0.4;
+constexpr double kPaperBondCorrosionB1PerS = 3.0e-10;
 
 struct MicroParameters {
     double friction = 0.4;                       // mu, particle-particle
@@ -77,6 +84,8 @@ struct MicroParameters {
     // A crushed contact's friction drops to mu (1 - loss): its fragments roll and lose
     // their interlocking (0 = kept; docs/creep.md "Bonds in the presets' crushable skeleton").
     double crushing_friction_loss = 0.0;
+    // A bonded contact that crushes loses its bond (engine/contact/grain_crushing.hpp).
+    bool crushing_breaks_bond = false;
 };
 
 // Time-dependent contact mechanism (docs/creep.md): rate-process delayed slip at the

@@ -103,6 +103,7 @@ const std::vector<BoolField>& bool_fields() {
         {"effects", "moisture_bonding", [](TestScheme& s) -> bool& { return s.effects.moisture_bonding; }},
         {"effects", "seating_error", [](TestScheme& s) -> bool& { return s.effects.seating_error; }},
         {"effects", "membrane_compliance", [](TestScheme& s) -> bool& { return s.effects.membrane_compliance; }},
+        {"micro", "crushing_breaks_bond", [](TestScheme& s) -> bool& { return s.micro.crushing_breaks_bond; }},
         {"creep", "grain_fatigue_strength_spread", [](TestScheme& s) -> bool& { return s.creep.grain_fatigue_strength_spread; }},
     };
     return f;

@@ -74,7 +74,7 @@ TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear da
     CHECK(crush[0].lower == 0.0);
     CHECK(crush[0].lower_is_off);
     CHECK(crush[0].upper == Approx(kCrushabilityMax));
-    CHECK(crush[0].nominal == Approx(1.0));  // the paper-group presets' grain
+    CHECK(crush[0].nominal == Approx(1.0));  // a 0.6 MPa grain (the presets' of sessions 8-11)
     CHECK(shear_model.effect_parameters(Effect::ContactCreepViscosity).empty());
     CHECK(shear_model.effect_parameters(Effect::RollingResistance).size() == 1);
 

@@ -172,6 +172,39 @@ TEST_CASE("crushing friction loss: a contact that crushes keeps mu (1 - loss), o
     CHECK(c.asperity_wear[0] == 0.0);
 }
 
+TEST_CASE("crushing that breaks the bond: a bonded contact that crushes loses its bond, one that does not keeps it",
+          "[crushing]") {
+    const double r = 0.005, kn = 1.0e6, h = 0.02;
+    auto [pa, c] = two_grains_touching(r);
+    const std::vector<double> f_c = {200.0, 30.0};
+    c.bonded[0] = 1;
+    // 20 N: below the weaker grain's 30 N, no crushing, the bond holds.
+    pa.position[1].z() = 2 * r - 20.0 / kn;
+    auto s = crush_contacts(c, pa, 2, f_c, kn, h, 0.0, 0.0, true);
+    CHECK(s.crushing == 0);
+    CHECK(s.bonds_broken == 0);
+    CHECK(c.bonded[0] == 1);
+    // 50 N: the contact crushes and its bond goes with the crushed asperities.
+    pa.position[1].z() = 2 * r - 50.0 / kn;
+    s = crush_contacts(c, pa, 2, f_c, kn, h, 0.0, 0.0, true);
+    CHECK(s.crushing == 1);
+    CHECK(s.bonds_broken == 1);
+    CHECK(c.bonded[0] == 0);
+    // Crushing on: an unbonded contact counts no broken bond.
+    pa.position[1].z() -= 10.0 / kn;
+    s = crush_contacts(c, pa, 2, f_c, kn, h, 0.0, 0.0, true);
+    CHECK(s.crushing == 1);
+    CHECK(s.bonds_broken == 0);
+    // Without the option (the default) a crushing contact keeps its bond.
+    c.reset_history(0);
+    c.active[0] = 1;
+    c.bonded[0] = 1;
+    pa.position[1].z() = 2 * r - 50.0 / kn;
+    s = crush_contacts(c, pa, 2, f_c, kn, h);
+    CHECK(s.crushing == 1);
+    CHECK(c.bonded[0] == 1);
+}
+
 // ---- static fatigue (delayed crushing) ------------------------------------------------
 
 TEST_CASE("static fatigue: exact update at fixed force, finite life t0 r^-n / (n + 1)", "[crushing][fatigue]") {

@@ -39,7 +39,12 @@ TEST_CASE("scheme round trip keeps every field", "[protocol][io]") {
     CHECK(back.specimen.moisture_content == Approx(0.121));
     // Crushing fields travel in lab units (MPa, mm); presets have crushable grains.
     const json j = io::scheme_to_json(s);
-    CHECK(j["micro"]["crushing_strength_MPa"].get<double>() == Approx(0.6));
+    CHECK(j["micro"]["crushing_strength_MPa"].get<double>() == Approx(1.0));
+    // The presets' cohesion: Mohr-Coulomb bonds of 500 kPa, and a crushing contact loses its bond.
+    CHECK(j["micro"]["bond_shear_strength_kPa"].get<double>() == Approx(500.0));
+    CHECK(j["micro"]["bond_friction"].get<double>() == Approx(0.4));
+    CHECK(j["micro"]["crushing_breaks_bond"].get<bool>());
+    CHECK(j["creep"]["damage_rate_b1_per_s"].get<double>() == Approx(3e-10));
     CHECK(j["micro"]["crushing_reference_diameter_mm"].get<double>() == Approx(10.0));
     CHECK(back.micro.crushing_hardening_ratio == Approx(s.micro.crushing_hardening_ratio));
     CHECK(protocol::TestScheme{}.micro.crushing_strength_pa == 0.0);  // scheme default: unbreakable
@@ -55,6 +60,9 @@ TEST_CASE("scheme round trip keeps every field", "[protocol][io]") {
     const auto softening = io::scheme_from_json(io::scheme_to_json(s));
     CHECK(softening.micro.crushing_hardening_ratio == Approx(-0.1));
     CHECK(softening.micro.crushing_residual_ratio == Approx(0.3));
+    CHECK_FALSE(protocol::TestScheme{}.micro.crushing_breaks_bond);
+    s.micro.crushing_breaks_bond = true;
+    CHECK(io::scheme_from_json(io::scheme_to_json(s)).micro.crushing_breaks_bond);
 }
 
 TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
@@ -75,6 +83,7 @@ TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
     CHECK(field_of({{"micro", {{"crushing_friction_loss", 1.0}}}}) == "/micro/crushing_friction_loss");
     CHECK(field_of({{"micro", {{"crushing_residual_ratio", 1.5}}}}) == "/micro/crushing_residual_ratio");
     CHECK(field_of({{"micro", {{"crushing_hardening_ratio", -1.0}}}}) == "/micro/crushing_hardening_ratio");
+    CHECK(field_of({{"micro", {{"crushing_breaks_bond", 1}}}}) == "/micro/crushing_breaks_bond");
     CHECK(field_of({{"loading", {{"stress_levels", {0.1, 0.4}}, {"stage_durations_min", {60}}}}}) ==
           "/loading/stage_durations_min");
     CHECK(field_of({{"gradation", {{"sieve_curve", {{{"size_mm", 2}, {"passing_pct", 50}}, {{"size_mm", 1}, {"passing_pct", 60}}}}}}}) ==

@@ -144,25 +144,18 @@ TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
     for (const auto& s : r.creep_stages) CHECK(s.translated.front().time_s == 0.0);
 }
 
-// The paper's tertiary creep with the optional bond cohesion (session 9, docs/creep.md
-// "Bond cohesion and its corrosion"): the full-size group-B specimen with the scheme-default
-// unbreakable grains, Mohr-Coulomb bonds of 500 kPa (cohesion that adds to friction, about
-// 30 % of q_f) and their stress corrosion at b1 = 3e-10 1/s, in the preset's 60-h stages.
-// S = 0.8 lies above the unbonded skeleton's strength: once corrosion has let enough bonds
-// go, creep speeds up and the specimen ruptures (seed 1: over 4 h, rupture at 5.3 h; seed 2:
-// over a day, at 39 h; seed 3: within 3 min; seed 5: at 48 h). Not the default: the presets'
-// crushable grains (finding (2)) take the bond loss up by crushing (one run in thirteen goes
-// tertiary, docs/creep.md "Bonds in the presets' crushable skeleton"), and the defaults give
-// no tertiary.
-static const TestResult& bonded_creep_run() {
+// The paper's creep regimes on the paper-group preset itself (session 12, docs/creep.md
+// "Crushing that breaks the bond"): the full-size group-B specimen with the presets'
+// cohesive, crushable fill (Mohr-Coulomb bonds of 500 kPa that carry its cohesion, grains
+// that crush at 1 MPa and lose their bond when they do, bond corrosion at b1 = 3e-10 1/s),
+// in the preset's 60-h stages. S = 0.8 lies above the strength the skeleton keeps once its
+// over-loaded bonds have corroded: it creeps on and speeds up late. By the flags the four
+// regimes held on seeds 1, 2 and 4 of five (seed 3 and 5: S = 0.8 settles after 3-4 mm
+// of creep).
+static const TestResult& preset_creep_run() {
     static const TestResult r = [] {
         RunObserver none;
         TestScheme s = paper_group("B");
-        s.micro.crushing_strength_pa = 0.0;
-        s.micro.bond_friction = 0.4;
-        s.micro.bond_shear_strength_pa = 500e3;
-        s.micro.bond_normal_strength_pa = 500e3;
-        s.creep.damage_rate_b1_per_s = 3e-10;
         // One thread: under ctest -j 2 this test shares the two cores with the diagnosis
         // cases, and two threads each would oversubscribe them.
         s.threads = 1;
@@ -171,10 +164,9 @@ static const TestResult& bonded_creep_run() {
     return r;
 }
 
-TEST_CASE("(3b) with bond cohesion and its corrosion (option): the four regimes, S=0.8 accelerates to rupture",
-          "[protocol][slow]") {
-    // A full-size run (about 5-8 min on one core); the regimes hold on seeds 1-5.
-    const auto& r = bonded_creep_run();
+TEST_CASE("(3b) the paper-group preset B: the four creep regimes, S=0.8 speeds up late", "[protocol][slow]") {
+    // A full-size run (about 5-6 min on one core).
+    const auto& r = preset_creep_run();
     REQUIRE(r.creep_stages.size() == 4);
     CHECK(r.creep_stages[0].elastic_share >= 0.9);
     CHECK(r.creep_stages[0].converged);
@@ -186,10 +178,12 @@ TEST_CASE("(3b) with bond cohesion and its corrosion (option): the four regimes,
     const auto& s4 = r.creep_stages[3];
     CHECK(s4.accelerating);
     CHECK_FALSE(s4.converged);
-    // It is a delayed rupture, not a failure at loading: the first hour of the stage
-    // creeps less than a millimetre, then the specimen runs away.
-    CHECK(deformation_at(s4, 3600.0) - s4.instant_deformation_m < 1e-3);
-    CHECK(s4.final_deformation_m - s4.instant_deformation_m > 0.01);
+    // Late, not at loading: the first hour holds less than a fifth of the stage's creep,
+    // and the stage creeps far more than the converging ones.
+    const double creep4 = s4.final_deformation_m - s4.instant_deformation_m;
+    CHECK(deformation_at(s4, 3600.0) - s4.instant_deformation_m < 0.2 * creep4);
+    const auto& s3 = r.creep_stages[2];
+    CHECK(creep4 > 10.0 * (s3.final_deformation_m - s3.instant_deformation_m));
 }
 
 TEST_CASE("(4) share of a stage's creep reached in its first 30 min is reported", "[protocol][slow]") {
