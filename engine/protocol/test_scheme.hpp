@@ -40,7 +40,7 @@ struct GradationSpec {
 // linear normal stiffness of a pair is kn = pi * r_eff * E_n / 2 and ks likewise with E_s.
 // Crushing strength of the paper's grains (disintegrated carbonaceous mudstone), used by
 // the paper-group presets (docs/protocol.md, "Finding (2)"; 0.6 MPa before session 12, when
-// the presets' grains carried no cohesion: the bonds raise the contact forces by 30-40 %).
+// the presets' grains carried no cohesion: bonds raise the contact forces by 40-70 %, session 10).
 constexpr double kPaperCrushingStrengthPa = 1.0e6;
 // The presets' Mohr-Coulomb bonds (the fill's cohesion; Table 1 gives c = 25 kPa) and their
 // corrosion rate; the strength was chosen on the creep regimes, not fitted to c
