@@ -5,6 +5,17 @@
 namespace triax::protocol {
 
 namespace {
+// Crushing strength of the paper's grains (disintegrated carbonaceous mudstone;
+// docs/protocol.md, "Finding (2)"; 0.6 MPa before session 12, when the presets' grains
+// carried no cohesion: bonds raise the contact forces by 40-70 %, session 10).
+constexpr double kPaperCrushingStrengthPa = 1.0e6;
+// The presets' Mohr-Coulomb bonds (the fill's cohesion; Table 1 gives c = 25 kPa) and their
+// corrosion rate; the strength was chosen on the creep regimes, not fitted to c
+// (docs/creep.md, "Crushing that breaks the bond").
+constexpr double kPaperBondStrengthPa = 500.0e3;
+constexpr double kPaperBondFriction = 0.4;
+constexpr double kPaperBondCorrosionB1PerS = 3.0e-10;
+
 TestScheme group_scheme(const std::string& name, double sigma3_pa, double moisture) {
     TestScheme s;  // defaults are the paper's Tables 1-3
     s.name = "group " + name;

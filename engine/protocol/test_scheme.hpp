@@ -38,17 +38,6 @@ struct GradationSpec {
 // Micro-parameters (Table 3). Table 3 gives 230.15 and 150.63 without units; we read them
 // as the normal and shear effective contact moduli in MPa (docs/parameters.md): the
 // linear normal stiffness of a pair is kn = pi * r_eff * E_n / 2 and ks likewise with E_s.
-// Crushing strength of the paper's grains (disintegrated carbonaceous mudstone), used by
-// the paper-group presets (docs/protocol.md, "Finding (2)"; 0.6 MPa before session 12, when
-// the presets' grains carried no cohesion: bonds raise the contact forces by 40-70 %, session 10).
-constexpr double kPaperCrushingStrengthPa = 1.0e6;
-// The presets' Mohr-Coulomb bonds (the fill's cohesion; Table 1 gives c = 25 kPa) and their
-// corrosion rate; the strength was chosen on the creep regimes, not fitted to c
-// (docs/creep.md, "Crushing that breaks the bond").
-constexpr double kPaperBondStrengthPa = 500.0e3;
-constexpr double kPaperBondFriction = 0.4;
-constexpr double kPaperBondCorrosionB1PerS = 3.0e-10;
-
 struct MicroParameters {
     double friction = 0.4;                       // mu, particle-particle
     double wall_friction = 0.4;                  // rough platens (porous stones); also stops rigid drift
@@ -75,7 +64,7 @@ struct MicroParameters {
     // beyond it the contact flattens plastically with hardening ratio h. 0 = off: the
     // scheme default keeps unbreakable grains (with crushing, the reduced creep test's
     // S = 0.6 stage accelerates, docs/protocol.md); the paper-group presets switch it on
-    // at kPaperCrushingStrengthPa.
+    // (engine/protocol/paper_groups.cpp).
     double crushing_strength_pa = 0.0;           // sigma0 at d0
     double crushing_reference_diameter_m = 0.01; // d0
     double crushing_weibull_modulus = 5.0;       // m
