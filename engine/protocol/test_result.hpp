@@ -36,6 +36,10 @@ struct CreepStageResult {
     double instant_deformation_m = 0.0;  // transient elastic part (at loading)
     double final_deformation_m = 0.0;    // total stage deformation at the end
     double share_in_first_30min = 0.0;   // fraction of the stage's creep (final - instant) reached at 30 min
+    // Fraction of the stage's whole deformation (instant + creep) reached at 30 min: the
+    // paper's own measure ("transient elastic and rapid deformation ... 75 % ~ 85 % of the
+    // total deformation"), which counts the loading step.
+    double total_share_in_first_30min = 0.0;
     double elastic_share = 0.0;          // instant / final
     bool converged = false;              // creep rate decays (not accelerating) at the end
     bool accelerating = false;           // tertiary creep detected late in the stage

@@ -10,6 +10,7 @@
 #include "engine/creep/time_schedule.hpp"
 #include "engine/measure/measurement_sphere.hpp"
 #include "engine/protocol/creep_hold.hpp"
+#include "engine/protocol/creep_regime.hpp"
 #include "engine/protocol/specimen.hpp"
 #include "engine/protocol/stress_level.hpp"
 
@@ -426,12 +427,11 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             st.elastic_share = st.final_deformation_m > 0.0 ? st.instant_deformation_m / st.final_deformation_m : 1.0;
             const double d30 = deformation_at(st, 1800.0);
             st.share_in_first_30min = creep_part > 0.0 ? std::clamp((d30 - st.instant_deformation_m) / creep_part, 0.0, 1.0) : 1.0;
-            // Late behaviour: creep in the last fifth vs the fifth before it.
-            auto at = [&](double time) { return deformation_at(st, time); };
-            const double T = t;
-            const double late = at(T) - at(0.8 * T), before = at(0.8 * T) - at(0.6 * T);
-            st.accelerating = failed || (late > 1.3 * before && late > 0.05 * std::max(creep_part, 1e-12));
-            st.converged = !st.accelerating && (creep_part <= 0.0 || late < 0.1 * creep_part);
+            st.total_share_in_first_30min =
+                st.final_deformation_m > 0.0 ? std::clamp(d30 / st.final_deformation_m, 0.0, 1.0) : 1.0;
+            const CreepRegime regime = classify_creep_regime(st, t, failed);
+            st.accelerating = regime.accelerating;
+            st.converged = regime.converged;
             for (double d : sp.fatigue_damage()) st.failed_grains += d >= kFatigueDamageMax ? 1 : 0;
             res.creep_stages.push_back(st);
             t_total += t;

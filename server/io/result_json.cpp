@@ -24,6 +24,7 @@ json result_summary_to_json(const TestResult& r) {
                           {"final_deformation_mm", s.final_deformation_m * kMm},
                           {"elastic_share_pct", s.elastic_share * kPct},
                           {"share_in_first_30min_pct", s.share_in_first_30min * kPct},
+                          {"total_share_in_first_30min_pct", s.total_share_in_first_30min * kPct},
                           {"converged", s.converged},
                           {"accelerating", s.accelerating}});
     }

@@ -191,6 +191,9 @@ TEST_CASE("(4) share of a stage's creep reached in its first 30 min is reported"
     for (const auto& s : r.creep_stages) {
         CHECK(s.share_in_first_30min >= 0.0);
         CHECK(s.share_in_first_30min <= 1.0);
+        // The paper's measure counts the loading step, so it is never below the creep-only one.
+        CHECK(s.total_share_in_first_30min >= s.share_in_first_30min - 1e-12);
+        CHECK(s.total_share_in_first_30min <= 1.0);
     }
     // Decelerating creep: most of the low-level stage's creep happens early.
     CHECK(r.creep_stages[0].share_in_first_30min > 0.5);

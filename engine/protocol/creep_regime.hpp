@@ -1,0 +1,37 @@
+#pragma once
+// The late behaviour of one creep stage, read from its translated curve the way a lab reads
+// a creep curve: by the creep in equal slices of the stage (docs/creep.md, "Regime flags").
+
+#include <algorithm>
+
+#include "engine/protocol/test_result.hpp"
+
+namespace triax::protocol {
+
+struct CreepRegime {
+    bool accelerating = false;  // tertiary: the creep rate passed a minimum and rose again
+    bool converged = false;     // the last fifth holds < 10 % of the stage's creep
+};
+
+// Tertiary creep is the textbook one: the rate falls through primary creep to a minimum,
+// then rises. Session 12's flag compared only the last fifth with the fifth before and so
+// missed a stage whose fastest creep fell in the fourth fifth and stayed high in the fifth
+// (group A at S = 0.8: 0.12, 0.08, 0.41, 4.34, 2.04 mm per fifth). The minimum is taken over
+// fifths 2-4 (the first holds the primary creep). The late creep must also be a real share
+// of the stage's creep (5 %), so a converged stage's reading noise cannot raise the flag.
+// A stage that ran away (`ruptured`) is accelerating by definition.
+inline CreepRegime classify_creep_regime(const CreepStageResult& st, double duration_s, bool ruptured) {
+    const double creep_part = st.final_deformation_m - st.instant_deformation_m;
+    double fifth[5];
+    for (int i = 0; i < 5; ++i)
+        fifth[i] = deformation_at(st, (i + 1) * duration_s / 5.0) - deformation_at(st, i * duration_s / 5.0);
+    const double late = fifth[4];
+    const double slowest_before = std::min({fifth[1], fifth[2], fifth[3]});
+    CreepRegime r;
+    r.accelerating = ruptured || (late > 1.3 * std::max(slowest_before, 0.0) &&
+                                  late > 0.05 * std::max(creep_part, 1e-12));
+    r.converged = !r.accelerating && (creep_part <= 0.0 || late < 0.1 * creep_part);
+    return r;
+}
+
+}  // namespace triax::protocol

@@ -1,0 +1,62 @@
+// The regime flags read from a stage's curve: tertiary = the rate passes a minimum and rises.
+#include <catch2/catch.hpp>
+
+#include <vector>
+
+#include "engine/protocol/creep_regime.hpp"
+
+using namespace triax::protocol;
+
+namespace {
+// A stage of 60 h whose curve is the loading step, then `per_fifth` mm of creep in each
+// fifth, spread evenly over 12 readings per fifth (the lab's readings).
+CreepStageResult stage_with_fifths(double instant_mm, const std::vector<double>& per_fifth_mm) {
+    CreepStageResult st;
+    const double T = 60.0 * 3600.0;
+    double d = instant_mm * 1e-3;
+    st.translated.push_back({0.0, d, 0.0});
+    for (int f = 0; f < 5; ++f)
+        for (int i = 1; i <= 12; ++i) {
+            d += per_fifth_mm[f] * 1e-3 / 12.0;
+            st.translated.push_back({(f + i / 12.0) * T / 5.0, d, 0.0});
+        }
+    st.instant_deformation_m = st.translated.front().axial_deformation_m;
+    st.final_deformation_m = st.translated.back().axial_deformation_m;
+    return st;
+}
+constexpr double kStage = 60.0 * 3600.0;
+}  // namespace
+
+TEST_CASE("a stage whose creep rate passes a minimum and rises is tertiary", "[protocol][regime]") {
+    // Group A at S = 0.8 (session 12): fastest in the fourth fifth, still fast in the fifth.
+    const auto a = classify_creep_regime(stage_with_fifths(0.29, {0.12, 0.08, 0.41, 4.34, 2.04}), kStage, false);
+    CHECK(a.accelerating);
+    CHECK_FALSE(a.converged);
+    // Group B seed 1: speeds up over the last three fifths.
+    const auto b = classify_creep_regime(stage_with_fifths(0.50, {0.81, 0.14, 0.15, 0.26, 0.59}), kStage, false);
+    CHECK(b.accelerating);
+}
+
+TEST_CASE("decaying creep converges, late bursts that die out are not tertiary", "[protocol][regime]") {
+    // Primary creep decaying like a log: converged.
+    const auto d = classify_creep_regime(stage_with_fifths(0.27, {30.0, 5.0, 2.5, 1.6, 1.2}), kStage, false);
+    CHECK_FALSE(d.accelerating);
+    CHECK(d.converged);
+    // Group D at S = 0.8 (session 12): a burst in the third fifth, then it settles.
+    const auto b = classify_creep_regime(stage_with_fifths(5.08, {3.01, 0.11, 0.40, 0.15, 0.01}), kStage, false);
+    CHECK_FALSE(b.accelerating);
+    CHECK(b.converged);
+}
+
+TEST_CASE("reading noise on a converged stage does not raise the tertiary flag", "[protocol][regime]") {
+    // The last fifth is twice the slowest earlier fifth, but holds under 5 % of the creep.
+    const auto n = classify_creep_regime(stage_with_fifths(0.37, {4.0, 0.3, 0.1, 0.15, 0.2}), kStage, false);
+    CHECK_FALSE(n.accelerating);
+    CHECK(n.converged);
+}
+
+TEST_CASE("a stage that ran away is accelerating whatever its curve", "[protocol][regime]") {
+    const auto r = classify_creep_regime(stage_with_fifths(0.5, {1.0, 0.5, 0.2, 0.1, 0.05}), kStage, true);
+    CHECK(r.accelerating);
+    CHECK_FALSE(r.converged);
+}
