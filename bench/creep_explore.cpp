@@ -52,8 +52,9 @@ int main(int argc, char** argv) {
     }
     for (const auto& st : r.creep_stages) {
         const double creep = st.final_deformation_m - st.instant_deformation_m;
-        std::printf("S=%.2f instant %.4f mm creep %.4f mm elastic %.3f first30 %.2f accel %d conv %d  curve:", st.stress_level,
-                    st.instant_deformation_m * 1e3, creep * 1e3, st.elastic_share, st.share_in_first_30min, st.accelerating,
+        std::printf("S=%.2f instant %.4f mm creep %.4f mm elastic %.3f first30 %.2f (total %.2f) accel %d conv %d  curve:",
+                    st.stress_level, st.instant_deformation_m * 1e3, creep * 1e3, st.elastic_share,
+                    st.share_in_first_30min, st.total_share_in_first_30min, st.accelerating,
                     st.converged);
         const double marks[] = {60, 600, 1800, 3600, 7200, 0.6 * st.duration_s, 0.8 * st.duration_s, st.duration_s};
         for (double tm : marks) {
