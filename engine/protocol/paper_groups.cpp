@@ -39,9 +39,12 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     //   scheme default breaks at its shear strength whatever the normal force and adds no
     //   cohesion under compression.
     // - A contact that crushes loses its bond: the cement sits on the asperities that crush.
-    // - The bonds' stress corrosion at b1 = 3e-10 1/s: S = 0.8 lies above the strength the
-    //   skeleton keeps once its over-loaded bonds have corroded, so it creeps on and
-    //   speeds up late (tertiary), while S = 0.4 and 0.6 converge.
+    // - The bonds' stress corrosion at b1 = 3e-10 1/s: for A and B, S = 0.8 lies above the
+    //   strength the skeleton keeps once its over-loaded bonds have corroded, so it creeps
+    //   on and speeds up late (tertiary), while S = 0.4 and 0.6 converge. For C and E
+    //   it lies below (the bonds carry a smaller share of q_f there), for D only 3 % above,
+    //   and S = 0.8 converges on seed 1
+    //   (docs/creep.md, "The other presets at S = 0.8").
     s.micro.crushing_strength_pa = kPaperCrushingStrengthPa;
     s.micro.crushing_breaks_bond = true;
     s.micro.bond_friction = kPaperBondFriction;
