@@ -42,8 +42,8 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     // - The bonds' stress corrosion at b1 = 3e-10 1/s: for A and B, S = 0.8 lies above the
     //   strength the skeleton keeps once its over-loaded bonds have corroded, so it creeps
     //   on and speeds up late (tertiary), while S = 0.4 and 0.6 converge. For C and E
-    //   it lies below (the bonds carry a smaller share of q_f there), for D only 3 % above,
-    //   and S = 0.8 converges on seed 1
+    //   it lies below (the bonds carry a smaller share of q_f there), and S = 0.8 converges
+    //   on seed 1; for D it lies only 3 % above (tertiary on one seed of three)
     //   (docs/creep.md, "The other presets at S = 0.8").
     s.micro.crushing_strength_pa = kPaperCrushingStrengthPa;
     s.micro.crushing_breaks_bond = true;
