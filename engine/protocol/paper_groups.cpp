@@ -43,7 +43,7 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     //   strength the skeleton keeps once its over-loaded bonds have corroded, so it creeps
     //   on and speeds up late (tertiary), while S = 0.4 and 0.6 converge. For C and E
     //   it lies below (the bonds carry a smaller share of q_f there), and S = 0.8 converges
-    //   on seed 1; for D it lies only 3 % above (tertiary on one seed of three)
+    //   (seeds 1 and 2); for D it lies only 3 % above (tertiary on one seed of three)
     //   (docs/creep.md, "The other presets at S = 0.8").
     s.micro.crushing_strength_pa = kPaperCrushingStrengthPa;
     s.micro.crushing_breaks_bond = true;

@@ -8,23 +8,23 @@
 using namespace triax::protocol;
 
 namespace {
+constexpr double kStage = 60.0 * 3600.0;
+
 // A stage of 60 h whose curve is the loading step, then `per_fifth` mm of creep in each
 // fifth, spread evenly over 12 readings per fifth (the lab's readings).
 CreepStageResult stage_with_fifths(double instant_mm, const std::vector<double>& per_fifth_mm) {
     CreepStageResult st;
-    const double T = 60.0 * 3600.0;
     double d = instant_mm * 1e-3;
     st.translated.push_back({0.0, d, 0.0});
     for (int f = 0; f < 5; ++f)
         for (int i = 1; i <= 12; ++i) {
             d += per_fifth_mm[f] * 1e-3 / 12.0;
-            st.translated.push_back({(f + i / 12.0) * T / 5.0, d, 0.0});
+            st.translated.push_back({(f + i / 12.0) * kStage / 5.0, d, 0.0});
         }
     st.instant_deformation_m = st.translated.front().axial_deformation_m;
     st.final_deformation_m = st.translated.back().axial_deformation_m;
     return st;
 }
-constexpr double kStage = 60.0 * 3600.0;
 }  // namespace
 
 TEST_CASE("a stage whose creep rate passes a minimum and rises is tertiary", "[protocol][regime]") {
