@@ -13,6 +13,9 @@ RateProcessCreep::RateProcessCreep(const RateProcessParams& p) : p_(p) {
     if (!(p.flow_wear_length_m >= 0.0)) throw InputError("creep.flow_wear_length_m: must be >= 0");
     if (!(p.wear_length_m >= 0.0)) throw InputError("creep.wear_length_m: must be >= 0");
     if (!(p.wear_max >= 0.0 && p.wear_max < 1.0)) throw InputError("creep.wear_max: must be in [0, 1)");
+    if (!(p.slow_slip_wear_max >= 0.0 && p.slow_slip_wear_max < 1.0))
+        throw InputError("creep.slow_slip_wear_max: must be in [0, 1)");
+    if (!(p.slow_slip_wear_length_m > 0.0)) throw InputError("creep.slow_slip_wear_length_m: must be > 0");
     if (!(p.aging_margin >= 0.0 && p.aging_margin <= 1.0)) throw InputError("creep.aging_margin: must be in [0, 1]");
     if (!(p.critical_mobilisation > 0.0 && p.critical_mobilisation <= 2.0))
         throw InputError("creep.critical_mobilisation: must be in (0, 2] (> 1 switches the secondary flow off)");
@@ -52,6 +55,11 @@ void RateProcessCreep::age(World& world) const {
             c.flow_threshold[k] = f + p_.aging_margin;
         }
     }
+}
+
+void RateProcessCreep::forget_sliding(World& world) const {
+    auto& slid = world.contacts().sliding_slip;
+    std::fill(slid.begin(), slid.end(), 0.0);
 }
 
 CreepUpdateSummary RateProcessCreep::trial(const World& world, double dt) const {
@@ -105,6 +113,10 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
             const bool flowing = flow > 0.0 && flow >= delta;
             const double s_w = flowing && p_.flow_wear_length_m > 0.0 ? p_.flow_wear_length_m : p_.wear_length_m;
             if (s_w > 0.0 && delta > 0.0) wear = p_.wear_max - (p_.wear_max - wear) * std::exp(-delta / s_w);
+            // Slow-slip weakening: the sliding since the last update happened at creep rates.
+            const double slid = c.sliding_slip[k];
+            if (p_.slow_slip_wear_max > wear && slid > 0.0)
+                wear = p_.slow_slip_wear_max - (p_.slow_slip_wear_max - wear) * std::exp(-slid / p_.slow_slip_wear_length_m);
             wear_sum += wear;
             if constexpr (kApply) {
                 const double fs_new = fs - law.ks * delta;
@@ -112,6 +124,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                 if (fs > 0.0) c.shear_force[k] *= fs_new / fs;
                 c.creep_slip[k] = s + delta;
                 c.asperity_wear[k] = wear;
+                c.sliding_slip[k] = 0.0;
                 // Slip erases the contact's aging (rate-and-state: the state variable
                 // renews over the slip): a flowing contact flows on from f_c.
                 if (flowing) c.flow_threshold[k] = 0.0;

@@ -25,6 +25,13 @@
 //    and the Coulomb limit drops to mu (1 - D) Fn (engine: ContactStore::asperity_wear).
 //    Wear raises f, which opens capacity and speeds the slip: a feedback whose gain grows
 //    with the share of contacts near sliding.
+//    Slow-slip weakening: Coulomb sliding in a creep hold's relaxations happens at creep
+//    rates, where the friction of velocity-strengthening gouge is lower by
+//    (a - b) ln(v_test / v_creep) (rate-and-state steady state); the state evolves over the
+//    slip, so that sliding wears the contact towards that lower friction,
+//      D <- max(D, D_s - (D_s - D) exp(-sliding / d_c)),
+//    D_s = slow_slip_wear_max, d_c = slow_slip_wear_length_m (off at D_s = 0). Only the
+//    sliding after a stage's loading step counts (forget_sliding()).
 // 3. Stress corrosion of contact bonds (Potyondy 2007):
 //      dDb/dt = b1 exp(b2 rho)  when rho > rho_th,   rho = max(tension / Tn, |Fs| / Ss)
 //    the engine scales bond strengths by (1 - Db).
@@ -52,6 +59,8 @@ struct RateProcessParams {
     double flow_rate_scale = 1.0;         // A_f / A: the flow's rate factor relative to the delayed slip's
     double wear_length_m = 0.0;           // s_w, 0 = no wear
     double flow_wear_length_m = 0.0;      // s_wf, wear length of flow slip; 0 = s_w
+    double slow_slip_wear_max = 0.0;      // D_s: friction loss of a contact sliding at creep rates; 0 = off
+    double slow_slip_wear_length_m = 20.0e-6;  // d_c: the sliding over which it sets in
     double wear_max = 0.0;                // D_max
     double bond_corrosion_b1_per_s = 0.0; // b1
     double bond_corrosion_b2 = 10.0;      // b2
@@ -77,6 +86,10 @@ public:
     // 1972: a contact held at rest gains static strength), so it creeps again only when
     // a later load raises its mobilisation beyond that.
     void age(World& world) const;
+
+    // Drops the Coulomb sliding the contacts have accumulated so far (a stage's loading
+    // step slides at the test's rate, not at creep rates).
+    void forget_sliding(World& world) const;
 
     // What advance() would do over dt, without changing the world.
     CreepUpdateSummary trial(const World& world, double dt_s) const;

@@ -107,6 +107,11 @@ struct CreepLawParameters {
     double wear_max = 0.5;                 // D_max
     // A flowing contact (f >= f_c) wears over this shorter length (docs/creep.md).
     double flow_wear_length_m = 2.0e-6;    // s_wf
+    // Slow-slip weakening: a contact that slides during a creep hold (at creep rates) loses
+    // up to this share of its friction over the sliding length d_c (rate-and-state steady
+    // state of velocity-strengthening gouge, docs/creep.md); 0 = off.
+    double slow_slip_wear_max = 0.0;       // D_s
+    double slow_slip_wear_length_m = 20.0e-6;  // d_c
     // Stress corrosion of contact bonds: dD/dt = b1 exp(b2 rho) when rho > threshold,
     // rho = bond load / bond strength.
     double damage_rate_b1_per_s = 1.0e-9;

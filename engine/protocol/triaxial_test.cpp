@@ -257,6 +257,8 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         cp.wear_length_m = scheme.creep.wear_length_m;
         cp.wear_max = scheme.creep.wear_max;
         cp.flow_wear_length_m = scheme.creep.flow_wear_length_m;
+        cp.slow_slip_wear_max = scheme.creep.slow_slip_wear_max;
+        cp.slow_slip_wear_length_m = scheme.creep.slow_slip_wear_length_m;
         cp.bond_corrosion_b1_per_s = scheme.creep.damage_rate_b1_per_s * vs *
                                      (scheme.effects.grain_breakage ? scheme.effects.breakage_damage_scale : 1.0);
         cp.bond_corrosion_b2 = scheme.creep.damage_b2;
@@ -353,6 +355,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             creep_law.age(w);
             holder.hold(sigma3 + q_target, 500, 200000, &rotation, true);
             st.instant_failed_grains = static_cast<int>(instant_crushing(q_target));
+            creep_law.forget_sliding(w);
             auto record = [&](double t_stage) {
                 const double d = z_top0 - sp.top_z();
                 CreepPoint cpnt{t_total + t_stage, d, d / hc};

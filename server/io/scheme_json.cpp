@@ -68,6 +68,8 @@ const std::vector<NumberField>& number_fields() {
         {"creep", "wear_length_um", "creep.wear_length_m", [](TestScheme& s) -> double& { return s.creep.wear_length_m; }, 1e-6},
         {"creep", "wear_max", "creep.wear_max", [](TestScheme& s) -> double& { return s.creep.wear_max; }, 1.0},
         {"creep", "flow_wear_length_um", "creep.flow_wear_length_m", [](TestScheme& s) -> double& { return s.creep.flow_wear_length_m; }, 1e-6},
+        {"creep", "slow_slip_wear_max", "creep.slow_slip_wear_max", [](TestScheme& s) -> double& { return s.creep.slow_slip_wear_max; }, 1.0},
+        {"creep", "slow_slip_wear_length_um", "creep.slow_slip_wear_length_m", [](TestScheme& s) -> double& { return s.creep.slow_slip_wear_length_m; }, 1e-6},
         {"creep", "damage_rate_b1_per_s", "creep.damage_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.damage_rate_b1_per_s; }, 1.0},
         {"creep", "damage_b2", "creep.damage_b2", [](TestScheme& s) -> double& { return s.creep.damage_b2; }, 1.0},
         {"creep", "damage_threshold", "creep.damage_threshold", [](TestScheme& s) -> double& { return s.creep.damage_threshold; }, 1.0},

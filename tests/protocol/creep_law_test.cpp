@@ -1,7 +1,8 @@
 // The time-dependent contact mechanism on a single contact held in place: delayed slip
 // relaxes the shear spring and converges; the update does not depend on how a period is
 // split; an aged contact does not creep until its mobilisation rises; asperity wear
-// follows the slip and lowers the Coulomb limit; bond corrosion has a threshold;
+// follows the slip and lowers the Coulomb limit; sliding in a hold wears towards the
+// slow-slip friction; bond corrosion has a threshold;
 // dissipation is booked as creep energy.
 #include <catch2/catch.hpp>
 
@@ -129,6 +130,57 @@ TEST_CASE("asperity wear follows the creep slip and lowers the Coulomb limit", "
     p0.slip_rate_a_m_s = 0.0;
     creep::RateProcessCreep still(p0);
     still.advance(q, 3600.0);
+    CHECK(q.contacts().asperity_wear[0] == 0.0);
+}
+
+TEST_CASE("sliding in a creep hold wears the contact towards its slow-slip friction", "[protocol][creep]") {
+    auto p = base();
+    p.slip_rate_a_m_s = 0.0;  // no delayed slip: only the Coulomb sliding wears
+    p.slow_slip_wear_max = 0.2;
+    p.slow_slip_wear_length_m = 5e-6;
+    World w = two_spheres();
+    auto& c = w.contacts();
+    creep::RateProcessCreep law(p);
+    // Drag j 10 um along the contact plane: 0.8 um of elastic shear, the rest slides.
+    w.particles().velocity[1] = Vec3(0, -1e-2, 0);
+    w.cycle(10000);
+    const double slid = c.sliding_slip[0];
+    CHECK(slid == Approx(10e-6 - 0.4 * c.normal_force[0] / 5e5).epsilon(0.05));
+    // The loading step's sliding does not count.
+    law.forget_sliding(w);
+    CHECK(c.sliding_slip[0] == 0.0);
+    law.advance(w, 60.0);
+    CHECK(c.asperity_wear[0] == 0.0);
+    // Sliding in the hold does: wear D_s (1 - exp(-slid / d_c)), and the update reads it once.
+    w.cycle(10000);
+    const double slid2 = c.sliding_slip[0];
+    REQUIRE(slid2 > 5e-6);
+    law.advance(w, 60.0);
+    const double wear = 0.2 * (1 - std::exp(-slid2 / 5e-6));
+    CHECK(c.asperity_wear[0] == Approx(wear));
+    CHECK(c.sliding_slip[0] == 0.0);
+    law.advance(w, 60.0);
+    CHECK(c.asperity_wear[0] == Approx(wear));
+    // The slider now holds only mu (1 - D) Fn.
+    w.cycle(100);
+    CHECK(shear_of(w) == Approx(0.4 * (1 - wear) * c.normal_force[0]).epsilon(1e-6));
+    // It never wears beyond D_s, and a contact already worn further keeps its wear.
+    w.cycle(30000);  // (j has moved 50 um by now, still in contact)
+    REQUIRE(c.active[0]);
+    law.advance(w, 60.0);
+    CHECK(c.asperity_wear[0] <= 0.2);
+    CHECK(c.asperity_wear[0] > 0.199);
+    c.asperity_wear[0] = 0.3;
+    w.cycle(2000);
+    REQUIRE(c.sliding_slip[0] > 0.0);
+    law.advance(w, 60.0);
+    CHECK(c.asperity_wear[0] == 0.3);
+    // Off by default: the same sliding wears nothing.
+    World q = two_spheres();
+    creep::RateProcessCreep plain(base());
+    q.particles().velocity[1] = Vec3(0, -1e-2, 0);
+    q.cycle(10000);
+    plain.advance(q, 60.0);
     CHECK(q.contacts().asperity_wear[0] == 0.0);
 }
 

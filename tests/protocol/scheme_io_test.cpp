@@ -63,6 +63,14 @@ TEST_CASE("scheme round trip keeps every field", "[protocol][io]") {
     CHECK_FALSE(protocol::TestScheme{}.micro.crushing_breaks_bond);
     s.micro.crushing_breaks_bond = true;
     CHECK(io::scheme_from_json(io::scheme_to_json(s)).micro.crushing_breaks_bond);
+    // The slow-slip weakening: off by default, its length travels in micrometres.
+    CHECK(protocol::TestScheme{}.creep.slow_slip_wear_max == 0.0);
+    s.creep.slow_slip_wear_max = 0.3;
+    s.creep.slow_slip_wear_length_m = 35e-6;
+    CHECK(io::scheme_to_json(s)["creep"]["slow_slip_wear_length_um"].get<double>() == Approx(35.0));
+    const auto slow = io::scheme_from_json(io::scheme_to_json(s));
+    CHECK(slow.creep.slow_slip_wear_max == Approx(0.3));
+    CHECK(slow.creep.slow_slip_wear_length_m == Approx(35e-6));
 }
 
 TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
@@ -84,6 +92,8 @@ TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
     CHECK(field_of({{"micro", {{"crushing_residual_ratio", 1.5}}}}) == "/micro/crushing_residual_ratio");
     CHECK(field_of({{"micro", {{"crushing_hardening_ratio", -1.0}}}}) == "/micro/crushing_hardening_ratio");
     CHECK(field_of({{"micro", {{"crushing_breaks_bond", 1}}}}) == "/micro/crushing_breaks_bond");
+    CHECK(field_of({{"creep", {{"slow_slip_wear_max", 1.0}}}}) == "/creep/slow_slip_wear_max");
+    CHECK(field_of({{"creep", {{"slow_slip_wear_length_um", 0}}}}) == "/creep/slow_slip_wear_length_um");
     CHECK(field_of({{"loading", {{"stress_levels", {0.1, 0.4}}, {"stage_durations_min", {60}}}}}) ==
           "/loading/stage_durations_min");
     CHECK(field_of({{"gradation", {{"sieve_curve", {{{"size_mm", 2}, {"passing_pct", 50}}, {{"size_mm", 1}, {"passing_pct", 60}}}}}}}) ==
