@@ -2,7 +2,7 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax ssw ssl(um) b1 b2 fth
+// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax ssw ssl(um) cbl b1 b2 fth
 //       bmu (bond friction) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
 //       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio; < 0 softens) cres (residual ratio of a softening contact) cfl (friction loss of a crushed contact) cbb (1: a crushing contact loses its bond) relax t0(s) nf rcap drive(0 capped peak force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters: bonds and
@@ -81,6 +81,7 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "dmax") s.creep.wear_max = v;
     else if (k == "ssw") s.creep.slow_slip_wear_max = v;
     else if (k == "ssl") s.creep.slow_slip_wear_length_m = v * 1e-6;
+    else if (k == "cbl") s.creep.corroded_bond_friction_loss = v;
     else if (k == "b1") s.creep.damage_rate_b1_per_s = v;
     else if (k == "bmu") s.micro.bond_friction = v;
     else if (k == "sigc") s.micro.crushing_strength_pa = v * 1e6;

@@ -16,6 +16,8 @@ RateProcessCreep::RateProcessCreep(const RateProcessParams& p) : p_(p) {
     if (!(p.slow_slip_wear_max >= 0.0 && p.slow_slip_wear_max < 1.0))
         throw InputError("creep.slow_slip_wear_max: must be in [0, 1)");
     if (!(p.slow_slip_wear_length_m > 0.0)) throw InputError("creep.slow_slip_wear_length_m: must be > 0");
+    if (!(p.corroded_bond_friction_loss >= 0.0 && p.corroded_bond_friction_loss < 1.0))
+        throw InputError("creep.corroded_bond_friction_loss: must be in [0, 1)");
     if (!(p.aging_margin >= 0.0 && p.aging_margin <= 1.0)) throw InputError("creep.aging_margin: must be in [0, 1]");
     if (!(p.critical_mobilisation > 0.0 && p.critical_mobilisation <= 2.0))
         throw InputError("creep.critical_mobilisation: must be in (0, 2] (> 1 switches the secondary flow off)");
@@ -67,6 +69,14 @@ CreepUpdateSummary RateProcessCreep::trial(const World& world, double dt) const 
 }
 
 CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) const {
+    // Contacts whose corroded bond broke in the last relaxation: the gouge its weathered
+    // cement leaves lowers their friction before they creep on.
+    if (p_.corroded_bond_friction_loss > 0.0) {
+        auto& c = world.contacts();
+        for (std::size_t k = 0; k < c.size(); ++k)
+            if (c.active[k] && !c.bonded[k] && c.damage[k] > 0.0)
+                c.asperity_wear[k] = std::max(c.asperity_wear[k], p_.corroded_bond_friction_loss);
+    }
     auto out = update<true>(world, dt);
     world.energy().creep += out.dissipated_j;
     return out;

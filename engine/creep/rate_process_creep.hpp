@@ -35,6 +35,9 @@
 // 3. Stress corrosion of contact bonds (Potyondy 2007):
 //      dDb/dt = b1 exp(b2 rho)  when rho > rho_th,   rho = max(tension / Tn, |Fs| / Ss)
 //    the engine scales bond strengths by (1 - Db).
+//    A bond that broke after corroding (Db > 0, no longer bonded) leaves its weathered
+//    cement as clay gouge in the contact: its friction drops to mu (1 - D_g),
+//    D_g = corroded_bond_friction_loss (off at 0), applied at the next update.
 //
 // A consolidated specimen is aged (age()): every contact already carries the delayed slip
 // its consolidation load sustains, as after the lab's consolidation hold, so a stage's
@@ -65,6 +68,7 @@ struct RateProcessParams {
     double bond_corrosion_b1_per_s = 0.0; // b1
     double bond_corrosion_b2 = 10.0;      // b2
     double bond_corrosion_threshold = 0.9;
+    double corroded_bond_friction_loss = 0.0;  // D_g: friction loss where a corroded bond broke; 0 = off
     int soil_group = 0;
 };
 

@@ -117,6 +117,9 @@ struct CreepLawParameters {
     double damage_rate_b1_per_s = 1.0e-9;
     double damage_b2 = 10.0;
     double damage_threshold = 0.9;
+    // A bond that broke after corroding leaves its weathered cement as clay gouge: the
+    // contact's friction drops to mu (1 - loss) (docs/creep.md, equation 4); 0 = off.
+    double corroded_bond_friction_loss = 0.0;
     // Static fatigue of crushable grains (delayed crushing; grain_crushing.hpp,
     // docs/creep.md): dD/dt = (1/t0) (F_max / (F_c (1 - D)))^n per grain, crushing force
     // F_c (1 - D). Acts in creep stages only, and only when micro.crushing_strength_pa > 0.

@@ -73,6 +73,7 @@ const std::vector<NumberField>& number_fields() {
         {"creep", "damage_rate_b1_per_s", "creep.damage_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.damage_rate_b1_per_s; }, 1.0},
         {"creep", "damage_b2", "creep.damage_b2", [](TestScheme& s) -> double& { return s.creep.damage_b2; }, 1.0},
         {"creep", "damage_threshold", "creep.damage_threshold", [](TestScheme& s) -> double& { return s.creep.damage_threshold; }, 1.0},
+        {"creep", "corroded_bond_friction_loss", "creep.corroded_bond_friction_loss", [](TestScheme& s) -> double& { return s.creep.corroded_bond_friction_loss; }, 1.0},
         {"creep", "grain_fatigue_time_s", "creep.grain_fatigue_time_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_time_s; }, 1.0},
         {"creep", "grain_fatigue_exponent", "creep.grain_fatigue_exponent", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_exponent; }, 1.0},
         {"creep", "grain_fatigue_ratio_cap", "creep.grain_fatigue_ratio_cap", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_ratio_cap; }, 1.0},

@@ -184,6 +184,37 @@ TEST_CASE("sliding in a creep hold wears the contact towards its slow-slip frict
     CHECK(q.contacts().asperity_wear[0] == 0.0);
 }
 
+TEST_CASE("a bond that broke after corroding leaves a contact of lower friction", "[protocol][creep]") {
+    auto p = base();
+    p.slip_rate_a_m_s = 0.0;
+    p.corroded_bond_friction_loss = 0.5;
+    creep::RateProcessCreep law(p);
+    // Still bonded though corroded: the cement holds, friction unchanged.
+    World w = two_spheres();
+    auto& c = w.contacts();
+    c.bonded[0] = 1;
+    c.damage[0] = 0.4;
+    law.advance(w, 60.0);
+    CHECK(c.asperity_wear[0] == 0.0);
+    // Broken after corroding: friction mu (1 - 0.5), and the slider holds only that.
+    c.bonded[0] = 0;
+    law.advance(w, 60.0);
+    CHECK(c.asperity_wear[0] == 0.5);
+    w.particles().velocity[1] = Vec3(0, -1e-2, 0);
+    w.cycle(2000);
+    CHECK(shear_of(w) == Approx(0.4 * 0.5 * c.normal_force[0]).epsilon(1e-6));
+    // A bond that broke uncorroded (at loading, damage 0) leaves clean fracture surfaces.
+    World q = two_spheres();
+    law.advance(q, 60.0);
+    CHECK(q.contacts().asperity_wear[0] == 0.0);
+    // Off by default.
+    World r = two_spheres();
+    r.contacts().damage[0] = 0.4;
+    creep::RateProcessCreep plain(base());
+    plain.advance(r, 60.0);
+    CHECK(r.contacts().asperity_wear[0] == 0.0);
+}
+
 TEST_CASE("bond corrosion grows only above its load threshold", "[protocol][creep]") {
     for (double rho : {0.5, 0.95}) {
         World w = two_spheres();

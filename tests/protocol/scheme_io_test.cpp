@@ -71,6 +71,8 @@ TEST_CASE("scheme round trip keeps every field", "[protocol][io]") {
     const auto slow = io::scheme_from_json(io::scheme_to_json(s));
     CHECK(slow.creep.slow_slip_wear_max == Approx(0.3));
     CHECK(slow.creep.slow_slip_wear_length_m == Approx(35e-6));
+    s.creep.corroded_bond_friction_loss = 0.5;
+    CHECK(io::scheme_from_json(io::scheme_to_json(s)).creep.corroded_bond_friction_loss == Approx(0.5));
 }
 
 TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
@@ -93,6 +95,7 @@ TEST_CASE("bad scheme fields are named by JSON pointer", "[protocol][io]") {
     CHECK(field_of({{"micro", {{"crushing_hardening_ratio", -1.0}}}}) == "/micro/crushing_hardening_ratio");
     CHECK(field_of({{"micro", {{"crushing_breaks_bond", 1}}}}) == "/micro/crushing_breaks_bond");
     CHECK(field_of({{"creep", {{"slow_slip_wear_max", 1.0}}}}) == "/creep/slow_slip_wear_max");
+    CHECK(field_of({{"creep", {{"corroded_bond_friction_loss", -0.1}}}}) == "/creep/corroded_bond_friction_loss");
     CHECK(field_of({{"creep", {{"slow_slip_wear_length_um", 0}}}}) == "/creep/slow_slip_wear_length_um");
     CHECK(field_of({{"loading", {{"stress_levels", {0.1, 0.4}}, {"stage_durations_min", {60}}}}}) ==
           "/loading/stage_durations_min");
