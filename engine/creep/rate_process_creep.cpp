@@ -69,14 +69,6 @@ CreepUpdateSummary RateProcessCreep::trial(const World& world, double dt) const 
 }
 
 CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) const {
-    // Contacts whose corroded bond broke in the last relaxation: the gouge its weathered
-    // cement leaves lowers their friction before they creep on.
-    if (p_.corroded_bond_friction_loss > 0.0) {
-        auto& c = world.contacts();
-        for (std::size_t k = 0; k < c.size(); ++k)
-            if (c.active[k] && !c.bonded[k] && c.damage[k] > 0.0)
-                c.asperity_wear[k] = std::max(c.asperity_wear[k], p_.corroded_bond_friction_loss);
-    }
     auto out = update<true>(world, dt);
     world.energy().creep += out.dissipated_j;
     return out;
@@ -94,6 +86,11 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
         if (grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
+        // A contact whose corroded bond broke in the last relaxation: the gouge its weathered
+        // cement leaves lowers its friction before it creeps on (a trial leaves it as is).
+        if constexpr (kApply)
+            if (p_.corroded_bond_friction_loss > 0.0 && !c.bonded[k] && c.damage[k] > 0.0)
+                c.asperity_wear[k] = std::max(c.asperity_wear[k], p_.corroded_bond_friction_loss);
         const ContactLaw& law = world.contact_law_of(k);
         const double fs = c.shear_force[k].norm();
         // A Mohr-Coulomb bond holds its contact: no slider, so no delayed slip while it

@@ -59,9 +59,9 @@ void TestScheme::validate() const {
     require(creep.wear_max >= 0.0 && creep.wear_max < 1.0, "creep.wear_max", "must be in [0, 1)");
     require(creep.slow_slip_wear_max >= 0.0 && creep.slow_slip_wear_max < 1.0, "creep.slow_slip_wear_max",
             "must be in [0, 1)");
+    require(creep.slow_slip_wear_length_m > 0.0, "creep.slow_slip_wear_length_m", "must be > 0");
     require(creep.corroded_bond_friction_loss >= 0.0 && creep.corroded_bond_friction_loss < 1.0,
             "creep.corroded_bond_friction_loss", "must be in [0, 1)");
-    require(creep.slow_slip_wear_length_m > 0.0, "creep.slow_slip_wear_length_m", "must be > 0");
     require(creep.damage_rate_b1_per_s >= 0.0, "creep.damage_rate_b1_per_s", "must be >= 0");
     require(creep.grain_fatigue_time_s >= 0.0, "creep.grain_fatigue_time_s", "must be >= 0 (0 = no static fatigue)");
     require(creep.grain_fatigue_exponent >= 1.0 && creep.grain_fatigue_exponent <= 100.0, "creep.grain_fatigue_exponent",

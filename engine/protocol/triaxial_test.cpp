@@ -258,8 +258,8 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         cp.wear_max = scheme.creep.wear_max;
         cp.flow_wear_length_m = scheme.creep.flow_wear_length_m;
         cp.slow_slip_wear_max = scheme.creep.slow_slip_wear_max;
-        cp.corroded_bond_friction_loss = scheme.creep.corroded_bond_friction_loss;
         cp.slow_slip_wear_length_m = scheme.creep.slow_slip_wear_length_m;
+        cp.corroded_bond_friction_loss = scheme.creep.corroded_bond_friction_loss;
         cp.bond_corrosion_b1_per_s = scheme.creep.damage_rate_b1_per_s * vs *
                                      (scheme.effects.grain_breakage ? scheme.effects.breakage_damage_scale : 1.0);
         cp.bond_corrosion_b2 = scheme.creep.damage_b2;
