@@ -43,7 +43,7 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     //   strength the skeleton keeps once its over-loaded bonds have corroded, so it creeps
     //   on and speeds up late (tertiary), while S = 0.4 and 0.6 converge. For C and E
     //   it lies below (the bonds carry a smaller share of q_f there), and S = 0.8 converges
-    //   (seeds 1-3); for D it lies only 3 % above (tertiary on one seed of three)
+    //   (seeds 1-3); for D it lies only 3 % above (tertiary on one seed of four)
     //   (docs/creep.md, "The other presets at S = 0.8"). A clock that takes only the
     //   cohesion cannot put 50 and 200 kPa in the regimes' window together (docs/creep.md,
     //   "Where S = 0.8 can go tertiary: the strength window").
