@@ -45,9 +45,9 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     //   it lies below (the bonds carry a smaller share of q_f there), and S = 0.8 converges
     //   (seeds 1-3); for D it lies only 3 % above (tertiary on one seed of four)
     //   (docs/creep.md, "The other presets at S = 0.8"). Bonds strong enough to
-    //   lift C's q_f above 1.25 x its bond-free strength stay below the corrosion
-    //   threshold at S = 0.8 (docs/creep.md, "Where S = 0.8 can go tertiary: the
-    //   bond-free strength").
+    //   lift C's q_f above 1.25 x its bond-free strength (700, 900 kPa) let S = 0.8
+    //   converge: by the likely reading they stay below the corrosion threshold there
+    //   (docs/creep.md, "Where S = 0.8 can go tertiary: the bond-free strength").
     s.micro.crushing_strength_pa = kPaperCrushingStrengthPa;
     s.micro.crushing_breaks_bond = true;
     s.micro.bond_friction = kPaperBondFriction;
