@@ -6,6 +6,9 @@
 // and take bond strength proportional to sigma_y. Dry of optimum the strength is held at
 // its optimum value (the paper only tests w >= w_opt). b_w = 15 per unit moisture (0.15 per
 // percentage point) gives factors 0.82 at 10.2 % (group D) and 0.62 at 12.1 % (group E).
+// The paper gives no numbers for it. A gentler relation does not buy D and E the paper's
+// tertiary S = 0.8: at b_w = 2 E still converged there on two seeds of two (docs/creep.md,
+// "Two more levers on the presets").
 #include <algorithm>
 #include <cmath>
 
