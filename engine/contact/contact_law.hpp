@@ -30,7 +30,12 @@ struct ContactLaw {
     // contact in compression breaks in shear at ss (1 - damage) + bond_friction Fn.
     // 0 = PFC contact bond (breaks at ss whatever the normal force).
     double bond_friction = 0.0;
+    // Cement neck of an intact bond (linear.hpp): it also holds a rolling moment up to
+    // (rolling_friction + bond_rolling_friction (1 - damage)) Rbar Fn, and breaks beyond it.
+    // 0 = the bond transmits no moment (PFC's contact bond).
+    double bond_rolling_friction = 0.0;
 
+    bool needs_rolling() const { return rolling_friction > 0.0 || bond_rolling_friction > 0.0; }
     void validate(const char* where) const;
 };
 
@@ -68,6 +73,7 @@ inline void ContactLaw::validate(const char* where) const {
     if (!(bond_normal_strength >= 0)) bad("bond_normal_strength", "must be >= 0 N");
     if (!(bond_shear_strength >= 0)) bad("bond_shear_strength", "must be >= 0 N");
     if (!(bond_friction >= 0)) bad("bond_friction", "must be >= 0");
+    if (!(bond_rolling_friction >= 0)) bad("bond_rolling_friction", "must be >= 0");
 }
 
 }  // namespace triax

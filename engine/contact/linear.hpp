@@ -8,14 +8,22 @@
 //     only; wear = asperity wear of the creep mechanism, 0 for a fresh contact)
 //   contact bond (if intact): tension allowed; breaks when -Fn_el >= sn (1 - damage)
 //     (tension) or |Fs| >= ss (1 - damage) + mu_b max(Fn_el, 0) (shear; mu_b = bond
-//     friction, 0 for PFC's contact bond); then frictional.
+//     friction, 0 for PFC's contact bond; a bond friction above mu fades with the damage,
+//     bond_shear_strength.hpp); then frictional.
 //   rolling resistance (kRolling): M <- rotate(M) - kr dtheta_b,  kr = f ks Rbar^2,
 //     |M| <= mu_r Rbar Fn.
+//   cement neck of an intact bond (bond_rolling_friction mu_rb > 0, needs kRolling): while
+//     bonded, |M| <= (mu_r + mu_rb (1 - damage)) Rbar max(Fn_el, 0): the normal force may
+//     shift across the neck, of half-width mu_rb Rbar, as across the flat of an angular
+//     contact (Iwashita & Oda), and corrosion narrows it, as Potyondy's stress corrosion
+//     shrinks a parallel bond. Beyond it the contact rolls plastically (the moment is
+//     capped, the bond holds); a broken bond leaves mu_r.
 // kStateEnergy: whether to return the springs' stored energy (strain, bond_strain). It is
 // a state function that the World books only on the last step of a cycle() call (the only
 // one a caller can read); the dissipations (slip, dashpot, bond_break) are always booked.
 // n points from the first body (i, or the wall) to the second (j, or the particle);
 // all returned forces/moments act on the second body.
+#include "engine/contact/bond_shear_strength.hpp"
 #include "engine/contact/contact_law.hpp"
 #include "engine/core/types.hpp"
 
@@ -27,10 +35,11 @@ namespace triax {
 
 struct LinearContact {
     struct Params {
-        double kn, ks, friction, damping_ratio, rolling_friction, rolling_stiffness_factor, bond_friction;
+        double kn, ks, friction, damping_ratio, rolling_friction, rolling_stiffness_factor, bond_friction,
+            bond_rolling_friction;
         static Params from(const ContactLaw& l) {
             return {l.kn, l.ks, l.friction, l.normal_damping_ratio, l.rolling_friction,
-                    l.rolling_stiffness_factor, l.bond_friction};
+                    l.rolling_stiffness_factor, l.bond_friction, l.bond_rolling_friction};
         }
     };
 
@@ -120,7 +129,8 @@ struct LinearContact {
             if (-fn_el >= h.bond_normal_strength * keep) {
                 bonded = false;
                 out.broke_tension = true;
-            } else if (norm_at_least(fs.squaredNorm(), h.bond_shear_strength * keep + p.bond_friction * std::max(fn_el, 0.0))) {
+            } else if (norm_at_least(fs.squaredNorm(),
+                                     bond_shear_strength(h.bond_shear_strength, p.bond_friction, p.friction, fn_el, h.damage))) {
                 bonded = false;
                 out.broke_shear = true;
             }
@@ -162,12 +172,13 @@ struct LinearContact {
         if constexpr (kStateEnergy) spring = 0.5 * fn_el * fn_el / p.kn + (p.ks > 0 ? 0.5 * fs.squaredNorm() / p.ks : 0.0);
         Vec3 moment = Vec3::Zero();
         if constexpr (kRolling) {
-            if (p.rolling_friction > 0.0) {
+            if (p.rolling_friction > 0.0 || (bonded && p.bond_rolling_friction > 0.0)) {
                 const double kr = p.rolling_stiffness_factor * p.ks * k.r_bar * k.r_bar;
                 const Vec3 m_rot = rotate_into_plane(h.rolling_moment, k.n);
                 const Vec3 dth = (k.w_rel - k.n * k.n.dot(k.w_rel)) * k.dt;
                 moment = m_rot - kr * dth;
-                const double limit = p.rolling_friction * k.r_bar * std::max(fn_el, 0.0);
+                const double neck = bonded ? p.bond_rolling_friction * (1.0 - h.damage) : 0.0;
+                const double limit = (p.rolling_friction + neck) * k.r_bar * std::max(fn_el, 0.0);
                 const double mag = moment.norm();
                 if (mag > limit) {
                     const Vec3 m_new = mag > 0 ? Vec3(moment * (limit / mag)) : Vec3::Zero();
@@ -178,6 +189,10 @@ struct LinearContact {
                 }
                 if constexpr (kStateEnergy)
                     if (kr > 0) spring += 0.5 * moment.squaredNorm() / kr;
+            } else if (was_bonded && p.bond_rolling_friction > 0.0) {
+                // The bond broke in shear this step: its neck's moment spring is released.
+                const double kr = p.rolling_stiffness_factor * p.ks * k.r_bar * k.r_bar;
+                if (kr > 0) out.bond_break += 0.5 * h.rolling_moment.squaredNorm() / kr;
             }
         }
         if (bonded) out.bond_strain = spring;

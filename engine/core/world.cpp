@@ -123,7 +123,7 @@ void World::refresh_resolved_laws() {
     any_rolling_ = false;
     for (std::size_t k = 0; k < resolved_keys_.size(); ++k) {
         resolved_laws_[k] = laws_.get(resolved_keys_[k].first, resolved_keys_[k].second);
-        if (resolved_laws_[k].rolling_friction > 0.0) any_rolling_ = true;
+        if (resolved_laws_[k].needs_rolling()) any_rolling_ = true;
     }
 }
 
@@ -133,7 +133,7 @@ int World::law_index(int a, int b) {
         if (resolved_keys_[k] == key) return static_cast<int>(k);
     resolved_keys_.push_back(key);
     resolved_laws_.push_back(laws_.get(a, b));
-    if (resolved_laws_.back().rolling_friction > 0.0) any_rolling_ = true;
+    if (resolved_laws_.back().needs_rolling()) any_rolling_ = true;
     return static_cast<int>(resolved_keys_.size() - 1);
 }
 

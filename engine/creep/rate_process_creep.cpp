@@ -1,5 +1,7 @@
 #include "engine/creep/rate_process_creep.hpp"
 
+#include "engine/contact/bond_shear_strength.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -34,11 +36,12 @@ double mobilisation(const ContactStore& c, const ContactLaw& law, std::size_t k)
 }
 
 // Utilisation of a bond's present strength: the larger of tension over the corroded
-// tensile strength and shear over the corroded shear strength, ss keep + mu_b Fn (mu_b 0:
-// PFC's contact bond). keep = 1 - D; with keep 1 and mu_b 0 this is the plain ratio of
-// the uncorroded bond.
-double bond_utilisation(double fn, double fs, double tn, double ss, double mu_b, double keep) {
-    const double shear_strength = ss * keep + mu_b * std::max(0.0, fn);
+// tensile strength and shear over the corroded shear strength (bond_shear_strength.hpp:
+// ss keep + mu_b Fn, less the part of mu_b above the grains' mu that the damage took;
+// mu_b 0: PFC's contact bond). keep = 1 - D; with keep 1 and mu_b 0 this is the plain
+// ratio of the uncorroded bond.
+double bond_utilisation(double fn, double fs, double tn, double ss, double mu_b, double mu, double keep) {
+    const double shear_strength = bond_shear_strength(ss, mu_b, mu, fn, 1.0 - keep);
     return std::max(tn > 0.0 ? std::max(0.0, -fn) / (tn * keep) : 0.0,
                     shear_strength > 0.0 ? fs / shear_strength : 0.0);
 }
@@ -95,7 +98,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
         const double fs = c.shear_force[k].norm();
         // A Mohr-Coulomb bond holds its contact: no slider, so no delayed slip while it
         // is intact; its time dependence is the bond's corrosion.
-        const bool coulomb_bond = law.bond_friction > 0.0 && c.bonded[k];
+        const bool coulomb_bond = (law.bond_friction > 0.0 || law.bond_rolling_friction > 0.0) && c.bonded[k];
         const double f = coulomb_bond ? -1.0 : mobilisation(c, law, k);
         if (f > 0.0) {
             ++frictional;
@@ -150,9 +153,13 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                     // shrinks: a loaded bond corrodes ever faster until it breaks (rho = 1,
                     // at the next DEM cycle). Integrated at fixed forces by midpoint sub-steps
                     // of at most 0.01 damage, so the result does not depend on the increment.
+                    // The cement neck (bond_rolling_friction) narrows with this damage but does
+                    // not drive it: a neck rolling plastically at its limit sits at utilisation
+                    // 1 at every stress level, and letting it corrode made S = 0.1 and 0.4 creep
+                    // on (docs/creep.md, "The cement neck").
                     const double mu_b = law.bond_friction;
                     auto utilisation = [&](double d) {
-                        return bond_utilisation(fn, fs, tn, ss, mu_b, std::max(1e-12, 1.0 - d));
+                        return bond_utilisation(fn, fs, tn, ss, mu_b, law.friction, std::max(1e-12, 1.0 - d));
                     };
                     auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
                     double left = dt;
@@ -171,7 +178,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                         if constexpr (kApply) c.damage[k] = dmg;
                     }
                 } else {
-                    const double rho = bond_utilisation(fn, fs, tn, ss, 0.0, 1.0);
+                    const double rho = bond_utilisation(fn, fs, tn, ss, 0.0, law.friction, 1.0);
                     if (rho > p_.bond_corrosion_threshold) {
                         dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
                         ++out.bonds_damaged;

@@ -143,6 +143,7 @@ ContactLaw Specimen::soil_law(bool friction_on) const {
     l.ks = soil_kn_ * scheme_.micro.shear_modulus_pa / scheme_.micro.normal_modulus_pa;
     l.friction = friction_on ? scheme_.micro.friction : 0.0;
     l.bond_friction = scheme_.micro.bond_friction;
+    l.bond_rolling_friction = friction_on ? scheme_.micro.bond_rolling_friction : 0.0;
     const double rr = scheme_.effects.rolling_resistance ? scheme_.effects.rolling_friction : scheme_.micro.rolling_friction;
     l.rolling_friction = friction_on ? rr : 0.0;
     return l;

@@ -1,5 +1,6 @@
 // Contact bond: holds tension and shear up to its strength, breaks exactly there,
 // becomes a frictional contact and is counted by failure mode. Damage scales strength.
+#include "engine/contact/bond_shear_strength.hpp"
 #include "engine/core/world.hpp"
 #include "test_helpers.hpp"
 
@@ -114,5 +115,90 @@ TEST_CASE("a Mohr-Coulomb bond breaks in shear at ss (1 - D) + mu_b Fn, then sli
         CHECK(w.broken_bonds_shear() == 1);
         w.cycle(10);
         CHECK(w.contacts().shear_force[0].norm() == Approx(mu * w.contacts().normal_force[0]).epsilon(1e-6));
+    }
+}
+
+// Cement interlock (engine/contact/bond_shear_strength.hpp): a bond friction mu_b above
+// the grains' mu is carried by the cement, so the excess fades with the damage:
+// S = (ss + (mu_b - mu) Fn)(1 - D) + mu Fn. Intact it holds ss + mu_b Fn; fully corroded
+// it holds mu Fn, like an unbonded contact.
+TEST_CASE("a bond friction above the grains' fades with the bond's damage", "[engine][bond]") {
+    const double ss = 12.0, mu_b = 0.8, mu = 0.5, fn = 20.0;
+    CHECK(bond_shear_strength(ss, mu_b, mu, fn, 0.0) == Approx(ss + mu_b * fn));
+    CHECK(bond_shear_strength(ss, mu_b, mu, fn, 0.5) == Approx(0.5 * (ss + 0.3 * fn) + mu * fn));
+    CHECK(bond_shear_strength(ss, mu_b, mu, fn, 1.0) == Approx(mu * fn));
+    // mu_b <= mu: the cohesion alone corrodes (the Mohr-Coulomb bond of the presets).
+    CHECK(bond_shear_strength(ss, 0.3, mu, fn, 0.5) == Approx(0.5 * ss + 0.3 * fn));
+    CHECK(bond_shear_strength(ss, 0.0, mu, fn, 0.25) == Approx(0.75 * ss));
+    // Tension carries no friction.
+    CHECK(bond_shear_strength(ss, mu_b, mu, -5.0, 0.5) == Approx(0.5 * ss));
+
+    // In the contact law: the half-corroded bond breaks at the faded strength.
+    World w;
+    const double r = 0.005, kn = 1e6, ks = 5e5;
+    ContactLaw law = test::linear_law(kn, ks, mu);
+    law.bond_friction = mu_b;
+    w.set_default_contact_law(law);
+    const int a = w.add_sphere(Vec3(0, 0, 0), r, 2650.0);
+    const int b = w.add_sphere(Vec3(2 * r + 1e-6, 0, 0), r, 2650.0);
+    REQUIRE(w.bond_contacts(0, 0, 1e-5, 100.0, ss) == 1);
+    w.contacts().damage[0] = 0.5;
+    w.particles().position[b].x() -= 20e-6;  // Fn = 20 N
+    w.particles().flags[a] |= kFixedVelocity;
+    w.particles().flags[b] |= kFixedVelocity;
+    w.particles().velocity[b] = Vec3(0, 1e-3, 0);
+    w.set_time_step(1e-6);
+    double last = 0.0, fn_last = 0.0;
+    for (int s = 0; s < 200000 && w.intact_bond_count() == 1; ++s) {
+        last = w.contacts().shear_force[0].norm();
+        fn_last = w.contacts().normal_force[0];
+        w.cycle(1);
+    }
+    const double predicted = 0.5 * (ss + (mu_b - mu) * fn_last) + mu * fn_last;  // 19 N
+    CHECK(last == Approx(predicted).epsilon(0.01));
+    CHECK(last < ss * 0.5 + mu_b * fn_last);  // below the un-faded 22 N
+    CHECK(w.broken_bonds_shear() == 1);
+}
+
+// Cement neck (ContactLaw::bond_rolling_friction): an intact bond resists relative rolling
+// up to (mu_r + mu_rb (1 - D)) Rbar Fn, elastic below it (M = kr theta, kr = f ks Rbar^2),
+// and rolls plastically at that limit while the bond holds; once the bond is gone the
+// contact rolls freely (mu_r = 0).
+TEST_CASE("a bond's cement neck holds a rolling moment up to mu_rb (1 - D) Rbar Fn", "[engine][bond]") {
+    for (double damage : {0.0, 0.5}) {
+        World w;
+        const double r = 0.005, kn = 1e6, ks = 5e5, mu_rb = 0.3;
+        ContactLaw law = test::linear_law(kn, ks, 0.5);
+        law.bond_friction = 0.5;
+        law.bond_rolling_friction = mu_rb;
+        w.set_default_contact_law(law);
+        const int a = w.add_sphere(Vec3(0, 0, 0), r, 2650.0);
+        const int b = w.add_sphere(Vec3(2 * r + 1e-6, 0, 0), r, 2650.0);
+        REQUIRE(w.bond_contacts(0, 0, 1e-5, 100.0, 1e3) == 1);
+        w.contacts().damage[0] = damage;
+        w.particles().position[b].x() -= 20e-6;  // Fn = 20 N
+        w.particles().flags[a] |= kFixedVelocity;
+        w.particles().flags[b] |= kFixedVelocity;
+        // Equal and opposite spins about y: relative rolling, no sliding at the contact point.
+        w.particles().angular_velocity[a] = Vec3(0, -0.05, 0);
+        w.particles().angular_velocity[b] = Vec3(0, 0.05, 0);
+        w.set_time_step(1e-6);
+        const double r_bar = 0.5 * r, kr = ks * r_bar * r_bar;
+        const double limit = mu_rb * (1.0 - damage) * r_bar * 20.0;
+        const double theta_at_limit = limit / kr;  // rad
+        const int elastic_steps = static_cast<int>(0.5 * theta_at_limit / (0.1 * 1e-6));
+        w.cycle(elastic_steps);
+        INFO("damage " << damage);
+        CHECK(w.contacts().normal_force[0] == Approx(20.0).epsilon(0.01));
+        CHECK(w.contacts().rolling_moment[0].norm() == Approx(kr * 0.1 * 1e-6 * elastic_steps).epsilon(0.01));
+        const double slip_before = w.energy().slip;
+        w.cycle(4 * elastic_steps);  // twice past the limit
+        CHECK(w.contacts().rolling_moment[0].norm() == Approx(limit).epsilon(0.01));
+        CHECK(w.intact_bond_count() == 1);    // the neck rolls, the bond holds
+        CHECK(w.energy().slip > slip_before);  // plastic rolling dissipates
+        // The bond gone, nothing resists the rolling.
+        w.contacts().bonded[0] = 0;
+        w.cycle(2);
+        CHECK(w.contacts().rolling_moment[0].norm() == 0.0);
     }
 }

@@ -394,3 +394,43 @@ TEST_CASE("a Mohr-Coulomb bond corrodes ever faster until it breaks, whatever th
     law.advance(low, 86400.0);
     CHECK(low.contacts().damage[0] == 0.0);
 }
+
+// The cement neck (ContactLaw::bond_rolling_friction) narrows with the bond's corrosion
+// (engine/contact/linear.hpp) but does not drive it: a neck rolling plastically at its
+// limit is at utilisation 1 at every stress level. Only the shear and tension
+// utilisation corrode the bond, with or without the neck.
+TEST_CASE("a bond's cement neck does not drive its corrosion; the shear utilisation does", "[protocol][creep]") {
+    auto necked_pair = [](double shear_n) {
+        World w;
+        ContactLaw law;
+        law.kn = 1e6;
+        law.ks = 5e5;
+        law.friction = 0.4;
+        law.bond_friction = 0.4;
+        law.bond_rolling_friction = 0.3;
+        w.set_default_contact_law(law);
+        w.add_sphere(Vec3(0, 0, 0), 1e-3, 2600.0);
+        w.add_sphere(Vec3(1.999e-3, 0, 0), 1e-3, 2600.0);  // Fn = 1 N
+        for (int k = 0; k < 2; ++k) w.particles().flags[k] |= kFixedVelocity;
+        w.set_time_step(1e-7);
+        w.cycle(1);
+        auto& c = w.contacts();
+        c.bonded[0] = 1;
+        c.bond_shear_strength[0] = 1.0;
+        c.bond_normal_strength[0] = 10.0;
+        c.shear_force[0] = Vec3(0, shear_n, 0);            // strength 1.0 + 0.4 x 1 = 1.4 N
+        c.rolling_moment[0] = Vec3(0, 0, 0.3 * 0.5e-3);  // the neck at its limit mu_rb Rbar Fn
+        return w;
+    };
+    auto p = base();
+    p.bond_corrosion_b1_per_s = 1e-9;
+    p.bond_corrosion_b2 = 10.0;
+    p.bond_corrosion_threshold = 0.8;
+    creep::RateProcessCreep law(p);
+    World light = necked_pair(0.2), loaded = necked_pair(1.2);  // rho 0.14 and 0.86
+    law.advance(light, 3600.0);
+    law.advance(loaded, 3600.0);
+    CHECK(light.contacts().damage[0] == 0.0);
+    CHECK(loaded.contacts().damage[0] > 0.0);
+    CHECK(loaded.contacts().creep_slip[0] == 0.0);  // a necked bond holds its contact: no delayed slip
+}
