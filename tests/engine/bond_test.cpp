@@ -39,6 +39,39 @@ BondRun pull(const Vec3& direction, double damage) {
     return {last, (tensile ? sn : ss) * (1 - damage), w.broken_bonds_tension(), w.broken_bonds_shear()};
 }
 
+// Spheres of r = 5 mm bonded 1 um apart with the bond's shear strength ss, then pressed
+// 20 um closer (Fn = 20 N); both move only as prescribed. Sphere 1 is the driven one.
+World pressed_bonded_pair(const ContactLaw& law, double ss, double damage) {
+    World w;
+    const double r = 0.005;
+    w.set_default_contact_law(law);
+    const int a = w.add_sphere(Vec3(0, 0, 0), r, 2650.0);
+    const int b = w.add_sphere(Vec3(2 * r + 1e-6, 0, 0), r, 2650.0);
+    REQUIRE(w.bond_contacts(0, 0, 1e-5, 100.0, ss) == 1);
+    w.contacts().damage[0] = damage;
+    w.particles().position[b].x() -= 20e-6;
+    w.particles().flags[a] |= kFixedVelocity;
+    w.particles().flags[b] |= kFixedVelocity;
+    w.set_time_step(1e-6);
+    return w;
+}
+
+struct ShearBreak {
+    double shear;   // N, the bond's shear force the step before it broke
+    double normal;  // N, the normal force then
+};
+
+// Slides sphere 1 at 1 mm/s across the contact until the bond breaks.
+ShearBreak shear_until_break(World& w) {
+    w.particles().velocity[1] = Vec3(0, 1e-3, 0);
+    ShearBreak out{0.0, 0.0};
+    for (int s = 0; s < 200000 && w.intact_bond_count() == 1; ++s) {
+        out = {w.contacts().shear_force[0].norm(), w.contacts().normal_force[0]};
+        w.cycle(1);
+    }
+    return out;
+}
+
 }  // namespace
 
 TEST_CASE("contact bond breaks in tension at its normal strength, not before", "[engine][bond]") {
@@ -86,26 +119,11 @@ TEST_CASE("a bonded pair starts unloaded and carries tension, unbonded it does n
 // so its cohesion adds to friction; PFC's contact bond (mu_b = 0) breaks at ss.
 TEST_CASE("a Mohr-Coulomb bond breaks in shear at ss (1 - D) + mu_b Fn, then slides at mu Fn", "[engine][bond]") {
     for (double damage : {0.0, 0.5}) {
-        World w;
-        const double r = 0.005, kn = 1e6, ks = 5e5, ss = 12.0, mu_b = 0.3, mu = 0.5;
-        ContactLaw law = test::linear_law(kn, ks, mu);
+        const double ss = 12.0, mu_b = 0.3, mu = 0.5;
+        ContactLaw law = test::linear_law(1e6, 5e5, mu);
         law.bond_friction = mu_b;
-        w.set_default_contact_law(law);
-        const int a = w.add_sphere(Vec3(0, 0, 0), r, 2650.0);
-        const int b = w.add_sphere(Vec3(2 * r + 1e-6, 0, 0), r, 2650.0);
-        REQUIRE(w.bond_contacts(0, 0, 1e-5, 100.0, ss) == 1);
-        w.contacts().damage[0] = damage;
-        w.particles().position[b].x() -= 20e-6;  // 20 um closer than at bonding: Fn = 20 N
-        w.particles().flags[a] |= kFixedVelocity;
-        w.particles().flags[b] |= kFixedVelocity;
-        w.particles().velocity[b] = Vec3(0, 1e-3, 0);
-        w.set_time_step(1e-6);
-        double last = 0.0, fn = 0.0;
-        for (int s = 0; s < 200000 && w.intact_bond_count() == 1; ++s) {
-            last = w.contacts().shear_force[0].norm();
-            fn = w.contacts().normal_force[0];
-            w.cycle(1);
-        }
+        World w = pressed_bonded_pair(law, ss, damage);
+        const auto [last, fn] = shear_until_break(w);
         INFO("damage " << damage);
         REQUIRE(fn == Approx(20.0).epsilon(0.01));  // the shear motion opens the pair a little
         const double predicted = ss * (1 - damage) + mu_b * fn;  // 18 N intact, 12 N half corroded
@@ -134,26 +152,10 @@ TEST_CASE("a bond friction above the grains' fades with the bond's damage", "[en
     CHECK(bond_shear_strength(ss, mu_b, mu, -5.0, 0.5) == Approx(0.5 * ss));
 
     // In the contact law: the half-corroded bond breaks at the faded strength.
-    World w;
-    const double r = 0.005, kn = 1e6, ks = 5e5;
-    ContactLaw law = test::linear_law(kn, ks, mu);
+    ContactLaw law = test::linear_law(1e6, 5e5, mu);
     law.bond_friction = mu_b;
-    w.set_default_contact_law(law);
-    const int a = w.add_sphere(Vec3(0, 0, 0), r, 2650.0);
-    const int b = w.add_sphere(Vec3(2 * r + 1e-6, 0, 0), r, 2650.0);
-    REQUIRE(w.bond_contacts(0, 0, 1e-5, 100.0, ss) == 1);
-    w.contacts().damage[0] = 0.5;
-    w.particles().position[b].x() -= 20e-6;  // Fn = 20 N
-    w.particles().flags[a] |= kFixedVelocity;
-    w.particles().flags[b] |= kFixedVelocity;
-    w.particles().velocity[b] = Vec3(0, 1e-3, 0);
-    w.set_time_step(1e-6);
-    double last = 0.0, fn_last = 0.0;
-    for (int s = 0; s < 200000 && w.intact_bond_count() == 1; ++s) {
-        last = w.contacts().shear_force[0].norm();
-        fn_last = w.contacts().normal_force[0];
-        w.cycle(1);
-    }
+    World w = pressed_bonded_pair(law, ss, 0.5);
+    const auto [last, fn_last] = shear_until_break(w);
     const double predicted = 0.5 * (ss + (mu_b - mu) * fn_last) + mu * fn_last;  // 19 N
     CHECK(last == Approx(predicted).epsilon(0.01));
     CHECK(last < ss * 0.5 + mu_b * fn_last);  // below the un-faded 22 N
@@ -166,23 +168,15 @@ TEST_CASE("a bond friction above the grains' fades with the bond's damage", "[en
 // contact rolls freely (mu_r = 0).
 TEST_CASE("a bond's cement neck holds a rolling moment up to mu_rb (1 - D) Rbar Fn", "[engine][bond]") {
     for (double damage : {0.0, 0.5}) {
-        World w;
-        const double r = 0.005, kn = 1e6, ks = 5e5, mu_rb = 0.3;
-        ContactLaw law = test::linear_law(kn, ks, 0.5);
+        const double r = 0.005, ks = 5e5, mu_rb = 0.3;
+        ContactLaw law = test::linear_law(1e6, ks, 0.5);
         law.bond_friction = 0.5;
         law.bond_rolling_friction = mu_rb;
-        w.set_default_contact_law(law);
-        const int a = w.add_sphere(Vec3(0, 0, 0), r, 2650.0);
-        const int b = w.add_sphere(Vec3(2 * r + 1e-6, 0, 0), r, 2650.0);
-        REQUIRE(w.bond_contacts(0, 0, 1e-5, 100.0, 1e3) == 1);
-        w.contacts().damage[0] = damage;
-        w.particles().position[b].x() -= 20e-6;  // Fn = 20 N
-        w.particles().flags[a] |= kFixedVelocity;
-        w.particles().flags[b] |= kFixedVelocity;
+        World w = pressed_bonded_pair(law, 1e3, damage);
+        const int a = 0, b = 1;
         // Equal and opposite spins about y: relative rolling, no sliding at the contact point.
         w.particles().angular_velocity[a] = Vec3(0, -0.05, 0);
         w.particles().angular_velocity[b] = Vec3(0, 0.05, 0);
-        w.set_time_step(1e-6);
         const double r_bar = 0.5 * r, kr = ks * r_bar * r_bar;
         const double limit = mu_rb * (1.0 - damage) * r_bar * 20.0;
         const double theta_at_limit = limit / kr;  // rad

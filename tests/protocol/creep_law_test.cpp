@@ -39,6 +39,31 @@ static creep::RateProcessParams base() {
     return p;
 }
 
+// Two touching spheres (Fn = 1 N, r = 1 mm) held in place, bonded with ss = 1 N and
+// tn = 10 N under the Mohr-Coulomb bond law (mu = mu_b = 0.4) and the given cement neck,
+// carrying the shear force fs_n (N) along y.
+static World held_bonded_pair(double fs_n, double bond_rolling_friction = 0.0) {
+    World w;
+    ContactLaw law;
+    law.kn = 1e6;
+    law.ks = 5e5;
+    law.friction = 0.4;
+    law.bond_friction = 0.4;
+    law.bond_rolling_friction = bond_rolling_friction;
+    w.set_default_contact_law(law);
+    w.add_sphere(Vec3(0, 0, 0), 1e-3, 2600.0);
+    w.add_sphere(Vec3(1.999e-3, 0, 0), 1e-3, 2600.0);
+    for (int k = 0; k < 2; ++k) w.particles().flags[k] |= kFixedVelocity;
+    w.set_time_step(1e-7);
+    w.cycle(1);
+    auto& c = w.contacts();
+    c.bonded[0] = 1;
+    c.bond_shear_strength[0] = 1.0;
+    c.bond_normal_strength[0] = 10.0;
+    c.shear_force[0] = Vec3(0, fs_n, 0);
+    return w;
+}
+
 static double shear_of(const World& w) { return w.contacts().shear_force[0].norm(); }
 
 TEST_CASE("delayed slip relaxes the shear force and converges", "[protocol][creep]") {
@@ -337,26 +362,8 @@ TEST_CASE("flow slip wears the asperities over the flow wear length", "[protocol
 // reaches 1 and the DEM breaks it; the integration does not depend on the increments;
 // the bond holds its contact (no delayed slip while it is intact).
 TEST_CASE("a Mohr-Coulomb bond corrodes ever faster until it breaks, whatever the increments", "[protocol][creep]") {
-    auto bonded_pair = [] {
-        World w;
-        ContactLaw law;
-        law.kn = 1e6;
-        law.ks = 5e5;
-        law.friction = 0.4;
-        law.bond_friction = 0.4;
-        w.set_default_contact_law(law);
-        w.add_sphere(Vec3(0, 0, 0), 1e-3, 2600.0);
-        w.add_sphere(Vec3(1.999e-3, 0, 0), 1e-3, 2600.0);  // Fn = 1 N
-        for (int k = 0; k < 2; ++k) w.particles().flags[k] |= kFixedVelocity;
-        w.set_time_step(1e-7);
-        w.cycle(1);
-        auto& c = w.contacts();
-        c.bonded[0] = 1;
-        c.bond_shear_strength[0] = 1.0;
-        c.bond_normal_strength[0] = 10.0;
-        c.shear_force[0] = Vec3(0, 1.2, 0);  // strength 1.0 + 0.4 x 1 = 1.4 N: rho = 0.857
-        return w;
-    };
+    // Strength 1.0 + 0.4 x 1 = 1.4 N: rho = 0.857.
+    auto bonded_pair = [] { return held_bonded_pair(1.2); };
     auto p = base();  // delayed slip on: a bonded contact must not use it
     p.bond_corrosion_b1_per_s = 1e-9;
     p.bond_corrosion_b2 = 10.0;
@@ -401,25 +408,8 @@ TEST_CASE("a Mohr-Coulomb bond corrodes ever faster until it breaks, whatever th
 // utilisation corrode the bond, with or without the neck.
 TEST_CASE("a bond's cement neck does not drive its corrosion; the shear utilisation does", "[protocol][creep]") {
     auto necked_pair = [](double shear_n) {
-        World w;
-        ContactLaw law;
-        law.kn = 1e6;
-        law.ks = 5e5;
-        law.friction = 0.4;
-        law.bond_friction = 0.4;
-        law.bond_rolling_friction = 0.3;
-        w.set_default_contact_law(law);
-        w.add_sphere(Vec3(0, 0, 0), 1e-3, 2600.0);
-        w.add_sphere(Vec3(1.999e-3, 0, 0), 1e-3, 2600.0);  // Fn = 1 N
-        for (int k = 0; k < 2; ++k) w.particles().flags[k] |= kFixedVelocity;
-        w.set_time_step(1e-7);
-        w.cycle(1);
-        auto& c = w.contacts();
-        c.bonded[0] = 1;
-        c.bond_shear_strength[0] = 1.0;
-        c.bond_normal_strength[0] = 10.0;
-        c.shear_force[0] = Vec3(0, shear_n, 0);            // strength 1.0 + 0.4 x 1 = 1.4 N
-        c.rolling_moment[0] = Vec3(0, 0, 0.3 * 0.5e-3);  // the neck at its limit mu_rb Rbar Fn
+        World w = held_bonded_pair(shear_n, 0.3);                  // strength 1.4 N
+        w.contacts().rolling_moment[0] = Vec3(0, 0, 0.3 * 0.5e-3);  // the neck at its limit mu_rb Rbar Fn
         return w;
     };
     auto p = base();
