@@ -33,6 +33,7 @@ struct ContactStore {
     std::vector<Vec3> shear_force;           // N, on j
     std::vector<Vec3> rolling_moment;        // N m, on j
     std::vector<std::uint8_t> bonded;        // contact bond intact
+    std::vector<std::uint8_t> neck_cracked;  // the intact bond's cement neck cracked: it holds no moment
     std::vector<double> bond_normal_strength;  // N (tensile strength)
     std::vector<double> bond_shear_strength;   // N
     std::vector<double> reference_gap;       // m, gap at bond installation (bonded pairs start unloaded)
@@ -55,7 +56,7 @@ struct ContactStore {
     void resize(std::size_t n) {
         i.resize(n); j.resize(n); law.resize(n); active.resize(n);
         normal_force.resize(n); shear_force.resize(n); rolling_moment.resize(n);
-        bonded.resize(n); bond_normal_strength.resize(n); bond_shear_strength.resize(n);
+        bonded.resize(n); neck_cracked.resize(n); bond_normal_strength.resize(n); bond_shear_strength.resize(n);
         reference_gap.resize(n); creep_normal_offset.resize(n); damage.resize(n);
         asperity_wear.resize(n); creep_slip.resize(n); flow_threshold.resize(n); sliding_slip.resize(n);
         force_on_j.resize(n); torque_on_i.resize(n); torque_on_j.resize(n);
@@ -68,6 +69,7 @@ struct ContactStore {
         shear_force[k].setZero();
         rolling_moment[k].setZero();
         bonded[k] = 0;
+        neck_cracked[k] = 0;
         bond_normal_strength[k] = 0.0;
         bond_shear_strength[k] = 0.0;
         reference_gap[k] = 0.0;
@@ -87,6 +89,7 @@ struct ContactStore {
         shear_force[to] = other.shear_force[from];
         rolling_moment[to] = other.rolling_moment[from];
         bonded[to] = other.bonded[from];
+        neck_cracked[to] = other.neck_cracked[from];
         bond_normal_strength[to] = other.bond_normal_strength[from];
         bond_shear_strength[to] = other.bond_shear_strength[from];
         reference_gap[to] = other.reference_gap[from];

@@ -13,11 +13,12 @@
 //   rolling resistance (kRolling): M <- rotate(M) - kr dtheta_b,  kr = f ks Rbar^2,
 //     |M| <= mu_r Rbar Fn.
 //   cement neck of an intact bond (bond_rolling_friction mu_rb > 0, needs kRolling): while
-//     bonded, |M| <= (mu_r + mu_rb (1 - damage)) Rbar max(Fn_el, 0): the normal force may
-//     shift across the neck, of half-width mu_rb Rbar, as across the flat of an angular
-//     contact (Iwashita & Oda), and corrosion narrows it, as Potyondy's stress corrosion
-//     shrinks a parallel bond. Beyond it the contact rolls plastically (the moment is
-//     capped, the bond holds); a broken bond leaves mu_r.
+//     bonded and uncracked, the rolling spring holds |M| < (mu_r + mu_rb (1 - damage)) Rbar
+//     max(Fn_el, 0): the normal force may shift across the neck, of half-width mu_rb Rbar,
+//     as across the flat of an angular contact (Iwashita & Oda), and corrosion narrows it,
+//     as Potyondy's stress corrosion shrinks a parallel bond. At the limit the neck cracks
+//     (neck_cracked): the bond keeps its cohesion, the contact keeps only mu_r; the
+//     moment spring's energy is released as bond_break energy.
 // kStateEnergy: whether to return the springs' stored energy (strain, bond_strain). It is
 // a state function that the World books only on the last step of a cycle() call (the only
 // one a caller can read); the dissipations (slip, dashpot, bond_break) are always booked.
@@ -60,6 +61,7 @@ struct LinearContact {
         Vec3& shear_force;
         Vec3& rolling_moment;
         std::uint8_t* bonded;        // nullptr for contacts that cannot be bonded (walls)
+        std::uint8_t* neck_cracked;  // the bond's cement neck cracked (nullptr: walls)
         double bond_normal_strength;
         double bond_shear_strength;
         double damage;
@@ -172,27 +174,40 @@ struct LinearContact {
         if constexpr (kStateEnergy) spring = 0.5 * fn_el * fn_el / p.kn + (p.ks > 0 ? 0.5 * fs.squaredNorm() / p.ks : 0.0);
         Vec3 moment = Vec3::Zero();
         if constexpr (kRolling) {
-            if (p.rolling_friction > 0.0 || (bonded && p.bond_rolling_friction > 0.0)) {
-                const double kr = p.rolling_stiffness_factor * p.ks * k.r_bar * k.r_bar;
+            const bool neck = bonded && p.bond_rolling_friction > 0.0 && h.neck_cracked && !*h.neck_cracked;
+            const bool had_neck = was_bonded && p.bond_rolling_friction > 0.0 && h.neck_cracked && !*h.neck_cracked;
+            const double kr = p.rolling_stiffness_factor * p.ks * k.r_bar * k.r_bar;
+            if (p.rolling_friction > 0.0 || neck) {
                 const Vec3 m_rot = rotate_into_plane(h.rolling_moment, k.n);
                 const Vec3 dth = (k.w_rel - k.n * k.n.dot(k.w_rel)) * k.dt;
                 moment = m_rot - kr * dth;
-                const double neck = bonded ? p.bond_rolling_friction * (1.0 - h.damage) : 0.0;
-                const double limit = (p.rolling_friction + neck) * k.r_bar * std::max(fn_el, 0.0);
-                const double mag = moment.norm();
-                if (mag > limit) {
-                    const Vec3 m_new = mag > 0 ? Vec3(moment * (limit / mag)) : Vec3::Zero();
-                    const double absorbed = -0.5 * (m_rot + m_new).dot(dth);
-                    const double d_spring = kr > 0 ? (m_new.squaredNorm() - m_rot.squaredNorm()) / (2.0 * kr) : 0.0;
-                    out.slip += absorbed - d_spring;
-                    moment = m_new;
+                bool cracked = false;
+                if (neck) {
+                    const double neck_limit =
+                        (p.rolling_friction + p.bond_rolling_friction * (1.0 - h.damage)) * k.r_bar * std::max(fn_el, 0.0);
+                    if (norm_at_least(moment.squaredNorm(), neck_limit)) {
+                        *h.neck_cracked = 1;
+                        cracked = true;
+                        if (kr > 0) out.bond_break += 0.5 * m_rot.squaredNorm() / kr;
+                        moment = Vec3::Zero();  // carried on by the rolling slider, if any
+                    }
+                }
+                if (!neck || cracked) {
+                    const double limit = p.rolling_friction * k.r_bar * std::max(fn_el, 0.0);
+                    const double mag = moment.norm();
+                    if (!cracked && mag > limit) {
+                        const Vec3 m_new = mag > 0 ? Vec3(moment * (limit / mag)) : Vec3::Zero();
+                        const double absorbed = -0.5 * (m_rot + m_new).dot(dth);
+                        const double d_spring = kr > 0 ? (m_new.squaredNorm() - m_rot.squaredNorm()) / (2.0 * kr) : 0.0;
+                        out.slip += absorbed - d_spring;
+                        moment = m_new;
+                    }
                 }
                 if constexpr (kStateEnergy)
                     if (kr > 0) spring += 0.5 * moment.squaredNorm() / kr;
-            } else if (was_bonded && p.bond_rolling_friction > 0.0) {
+            } else if (had_neck && kr > 0) {
                 // The bond broke in shear this step: its neck's moment spring is released.
-                const double kr = p.rolling_stiffness_factor * p.ks * k.r_bar * k.r_bar;
-                if (kr > 0) out.bond_break += 0.5 * h.rolling_moment.squaredNorm() / kr;
+                out.bond_break += 0.5 * h.rolling_moment.squaredNorm() / kr;
             }
         }
         if (bonded) out.bond_strain = spring;

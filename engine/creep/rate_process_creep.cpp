@@ -153,13 +153,21 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                     // shrinks: a loaded bond corrodes ever faster until it breaks (rho = 1,
                     // at the next DEM cycle). Integrated at fixed forces by midpoint sub-steps
                     // of at most 0.01 damage, so the result does not depend on the increment.
-                    // The cement neck (bond_rolling_friction) narrows with this damage but does
-                    // not drive it: a neck rolling plastically at its limit sits at utilisation
-                    // 1 at every stress level, and letting it corrode made S = 0.1 and 0.4 creep
-                    // on (docs/creep.md, "The cement neck").
+                    // An uncracked cement neck (bond_rolling_friction) counts with its moment
+                    // over its corroded limit: the neck is part of the bond's cement, as the
+                    // moment term of a parallel bond's stress in Potyondy's model. It cracks at
+                    // 1 (next DEM cycle), so it is below 1 here.
                     const double mu_b = law.bond_friction;
+                    const double ri = world.particles().radius[c.i[k]], rj = world.particles().radius[c.j[k]];
+                    const bool neck_on = law.bond_rolling_friction > 0.0 && !c.neck_cracked[k];
+                    const double lever = ri * rj / (ri + rj) * std::max(fn, 0.0);
+                    const double m = c.rolling_moment[k].norm();
                     auto utilisation = [&](double d) {
-                        return bond_utilisation(fn, fs, tn, ss, mu_b, law.friction, std::max(1e-12, 1.0 - d));
+                        const double keep = std::max(1e-12, 1.0 - d);
+                        const double rho = bond_utilisation(fn, fs, tn, ss, mu_b, law.friction, keep);
+                        if (!neck_on) return rho;
+                        const double limit = (law.rolling_friction + law.bond_rolling_friction * keep) * lever;
+                        return std::max(rho, limit > 0.0 ? m / limit : 0.0);
                     };
                     auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
                     double left = dt;

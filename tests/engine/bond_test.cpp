@@ -163,36 +163,38 @@ TEST_CASE("a bond friction above the grains' fades with the bond's damage", "[en
 }
 
 // Cement neck (ContactLaw::bond_rolling_friction): an intact bond resists relative rolling
-// up to (mu_r + mu_rb (1 - D)) Rbar Fn, elastic below it (M = kr theta, kr = f ks Rbar^2),
-// and rolls plastically at that limit while the bond holds; once the bond is gone the
-// contact rolls freely (mu_r = 0).
-TEST_CASE("a bond's cement neck holds a rolling moment up to mu_rb (1 - D) Rbar Fn", "[engine][bond]") {
+// elastically (M = kr theta, kr = f ks Rbar^2) up to (mu_r + mu_rb (1 - D)) Rbar Fn; there
+// the neck cracks: the bond keeps its cohesion, the contact holds no moment (mu_r = 0) and
+// the moment spring's energy is released as bond-break energy.
+TEST_CASE("a bond's cement neck holds a rolling moment up to mu_rb (1 - D) Rbar Fn, then cracks", "[engine][bond]") {
     for (double damage : {0.0, 0.5}) {
         const double r = 0.005, ks = 5e5, mu_rb = 0.3;
         ContactLaw law = test::linear_law(1e6, ks, 0.5);
         law.bond_friction = 0.5;
         law.bond_rolling_friction = mu_rb;
         World w = pressed_bonded_pair(law, 1e3, damage);
-        const int a = 0, b = 1;
         // Equal and opposite spins about y: relative rolling, no sliding at the contact point.
-        w.particles().angular_velocity[a] = Vec3(0, -0.05, 0);
-        w.particles().angular_velocity[b] = Vec3(0, 0.05, 0);
+        w.particles().angular_velocity[0] = Vec3(0, -0.05, 0);
+        w.particles().angular_velocity[1] = Vec3(0, 0.05, 0);
         const double r_bar = 0.5 * r, kr = ks * r_bar * r_bar;
-        const double limit = mu_rb * (1.0 - damage) * r_bar * 20.0;
-        const double theta_at_limit = limit / kr;  // rad
-        const int elastic_steps = static_cast<int>(0.5 * theta_at_limit / (0.1 * 1e-6));
-        w.cycle(elastic_steps);
+        double last = 0.0, fn = 0.0;
+        int steps = 0;
+        for (; steps < 400000 && !w.contacts().neck_cracked[0]; ++steps) {
+            last = w.contacts().rolling_moment[0].norm();
+            fn = w.contacts().normal_force[0];
+            w.cycle(1);
+        }
         INFO("damage " << damage);
-        CHECK(w.contacts().normal_force[0] == Approx(20.0).epsilon(0.01));
-        CHECK(w.contacts().rolling_moment[0].norm() == Approx(kr * 0.1 * 1e-6 * elastic_steps).epsilon(0.01));
-        const double slip_before = w.energy().slip;
-        w.cycle(4 * elastic_steps);  // twice past the limit
-        CHECK(w.contacts().rolling_moment[0].norm() == Approx(limit).epsilon(0.01));
-        CHECK(w.intact_bond_count() == 1);    // the neck rolls, the bond holds
-        CHECK(w.energy().slip > slip_before);  // plastic rolling dissipates
-        // The bond gone, nothing resists the rolling.
-        w.contacts().bonded[0] = 0;
-        w.cycle(2);
+        REQUIRE(w.contacts().neck_cracked[0] == 1);
+        const double predicted = mu_rb * (1.0 - damage) * r_bar * fn;
+        CHECK(fn == Approx(20.0).epsilon(0.01));
+        CHECK(last == Approx(predicted).epsilon(0.01));
+        CHECK(last < predicted);
+        CHECK(last == Approx(kr * 0.1 * 1e-6 * (steps - 1)).epsilon(0.01));  // elastic up to the crack
         CHECK(w.contacts().rolling_moment[0].norm() == 0.0);
+        CHECK(w.intact_bond_count() == 1);  // the cohesion holds
+        CHECK(w.energy().bond_break == Approx(0.5 * last * last / kr).epsilon(0.02));
+        w.cycle(100);
+        CHECK(w.contacts().rolling_moment[0].norm() == 0.0);  // a cracked neck holds no moment
     }
 }
