@@ -30,9 +30,9 @@ struct ContactLaw {
     // contact in compression breaks in shear at ss (1 - damage) + bond_friction Fn.
     // 0 = PFC contact bond (breaks at ss whatever the normal force).
     double bond_friction = 0.0;
-    // Cement neck of an intact bond (linear.hpp): it also holds a rolling moment up to
-    // (rolling_friction + bond_rolling_friction (1 - damage)) Rbar Fn, and breaks beyond it.
-    // 0 = the bond transmits no moment (PFC's contact bond).
+    // Cement neck of an intact bond (linear.hpp): it also holds a rolling moment below
+    // (rolling_friction + bond_rolling_friction (1 - damage)) Rbar Fn and cracks there (the
+    // bond keeps its cohesion). 0 = the bond transmits no moment (PFC's contact bond).
     double bond_rolling_friction = 0.0;
 
     bool needs_rolling() const { return rolling_friction > 0.0 || bond_rolling_friction > 0.0; }

@@ -38,10 +38,11 @@ double mobilisation(const ContactStore& c, const ContactLaw& law, std::size_t k)
 // Utilisation of a bond's present strength: the larger of tension over the corroded
 // tensile strength and shear over the corroded shear strength (bond_shear_strength.hpp:
 // ss keep + mu_b Fn, less the part of mu_b above the grains' mu that the damage took;
-// mu_b 0: PFC's contact bond). keep = 1 - D; with keep 1 and mu_b 0 this is the plain
-// ratio of the uncorroded bond.
-double bond_utilisation(double fn, double fs, double tn, double ss, double mu_b, double mu, double keep) {
-    const double shear_strength = bond_shear_strength(ss, mu_b, mu, fn, 1.0 - keep);
+// mu_b 0: PFC's contact bond) at damage d; with d 0 and mu_b 0 this is the plain ratio of
+// the uncorroded bond.
+double bond_utilisation(double fn, double fs, double tn, double ss, double mu_b, double mu, double d) {
+    const double keep = std::max(1e-12, 1.0 - d);
+    const double shear_strength = bond_shear_strength(ss, mu_b, mu, fn, d);
     return std::max(tn > 0.0 ? std::max(0.0, -fn) / (tn * keep) : 0.0,
                     shear_strength > 0.0 ? fs / shear_strength : 0.0);
 }
@@ -163,10 +164,9 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                     const double lever = ri * rj / (ri + rj) * std::max(fn, 0.0);
                     const double m = c.rolling_moment[k].norm();
                     auto utilisation = [&](double d) {
-                        const double keep = std::max(1e-12, 1.0 - d);
-                        const double rho = bond_utilisation(fn, fs, tn, ss, mu_b, law.friction, keep);
+                        const double rho = bond_utilisation(fn, fs, tn, ss, mu_b, law.friction, d);
                         if (!neck_on) return rho;
-                        const double limit = (law.rolling_friction + law.bond_rolling_friction * keep) * lever;
+                        const double limit = (law.rolling_friction + law.bond_rolling_friction * (1.0 - d)) * lever;
                         return std::max(rho, limit > 0.0 ? m / limit : 0.0);
                     };
                     auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
@@ -186,7 +186,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                         if constexpr (kApply) c.damage[k] = dmg;
                     }
                 } else {
-                    const double rho = bond_utilisation(fn, fs, tn, ss, 0.0, law.friction, 1.0);
+                    const double rho = bond_utilisation(fn, fs, tn, ss, 0.0, law.friction, 0.0);
                     if (rho > p_.bond_corrosion_threshold) {
                         dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
                         ++out.bonds_damaged;

@@ -54,8 +54,8 @@ struct MicroParameters {
     // bond, docs/creep.md "Bond cohesion and its corrosion"); 0 = PFC contact bond.
     double bond_friction = 0.0;
     // Cement neck of the intact bond (engine/contact/linear.hpp): it holds a rolling moment
-    // up to bond_rolling_friction (1 - D) Rbar Fn and breaks beyond it; 0 = no moment
-    // (PFC contact bond). docs/creep.md "The cement neck".
+    // below bond_rolling_friction (1 - D) Rbar Fn and cracks there (the bond keeps its
+    // cohesion); 0 = no moment (PFC contact bond). docs/creep.md "The cement neck".
     double bond_rolling_friction = 0.0;
     // Membrane: bonded particles of one size, force but no moment.
     double membrane_particle_radius_m = 0.0;     // 0 = automatic (about r_min of the soil, >= 1 mm)
