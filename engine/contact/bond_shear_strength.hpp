@@ -21,4 +21,12 @@ inline double bond_shear_strength(double ss, double mu_b, double mu, double fn, 
     return (ss + excess * f) * (1.0 - damage) + (mu_b - excess) * f;
 }
 
+// Rolling moment (N m) an intact bond's uncracked cement neck holds before it cracks:
+// (mu_r + mu_rb (1 - D)) Rbar max(Fn, 0), mu_r the contact's rolling friction, mu_rb the
+// neck's (bond_rolling_friction), Rbar the effective radius (m). Shared by the contact law
+// (when the neck cracks) and the creep law (how loaded the neck is, for its corrosion).
+inline double bond_neck_moment_limit(double mu_r, double mu_rb, double r_bar, double fn, double damage) {
+    return (mu_r + mu_rb * (1.0 - damage)) * r_bar * std::max(fn, 0.0);
+}
+
 }  // namespace triax

@@ -181,21 +181,18 @@ struct LinearContact {
                 const Vec3 m_rot = rotate_into_plane(h.rolling_moment, k.n);
                 const Vec3 dth = (k.w_rel - k.n * k.n.dot(k.w_rel)) * k.dt;
                 moment = m_rot - kr * dth;
-                bool cracked = false;
                 if (neck) {
                     const double neck_limit =
-                        (p.rolling_friction + p.bond_rolling_friction * (1.0 - h.damage)) * k.r_bar * std::max(fn_el, 0.0);
+                        bond_neck_moment_limit(p.rolling_friction, p.bond_rolling_friction, k.r_bar, fn_el, h.damage);
                     if (norm_at_least(moment.squaredNorm(), neck_limit)) {
                         *h.neck_cracked = 1;
-                        cracked = true;
                         if (kr > 0) out.bond_break += 0.5 * m_rot.squaredNorm() / kr;
-                        moment = Vec3::Zero();  // carried on by the rolling slider, if any
+                        moment = Vec3::Zero();  // the rolling slider carries on from the next step
                     }
-                }
-                if (!neck || cracked) {
+                } else {
                     const double limit = p.rolling_friction * k.r_bar * std::max(fn_el, 0.0);
                     const double mag = moment.norm();
-                    if (!cracked && mag > limit) {
+                    if (mag > limit) {
                         const Vec3 m_new = mag > 0 ? Vec3(moment * (limit / mag)) : Vec3::Zero();
                         const double absorbed = -0.5 * (m_rot + m_new).dot(dth);
                         const double d_spring = kr > 0 ? (m_new.squaredNorm() - m_rot.squaredNorm()) / (2.0 * kr) : 0.0;

@@ -161,12 +161,13 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                     const double mu_b = law.bond_friction;
                     const double ri = world.particles().radius[c.i[k]], rj = world.particles().radius[c.j[k]];
                     const bool neck_on = law.bond_rolling_friction > 0.0 && !c.neck_cracked[k];
-                    const double lever = ri * rj / (ri + rj) * std::max(fn, 0.0);
+                    const double r_bar = ri * rj / (ri + rj);
                     const double m = c.rolling_moment[k].norm();
                     auto utilisation = [&](double d) {
                         const double rho = bond_utilisation(fn, fs, tn, ss, mu_b, law.friction, d);
                         if (!neck_on) return rho;
-                        const double limit = (law.rolling_friction + law.bond_rolling_friction * (1.0 - d)) * lever;
+                        const double limit =
+                            bond_neck_moment_limit(law.rolling_friction, law.bond_rolling_friction, r_bar, fn, d);
                         return std::max(rho, limit > 0.0 ? m / limit : 0.0);
                     };
                     auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
