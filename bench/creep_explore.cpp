@@ -52,10 +52,10 @@ int main(int argc, char** argv) {
     }
     for (const auto& st : r.creep_stages) {
         const double creep = st.final_deformation_m - st.instant_deformation_m;
-        std::printf("S=%.2f instant %.4f mm creep %.4f mm elastic %.3f first30 %.2f (total %.2f) accel %d conv %d  curve:",
+        std::printf("S=%.2f instant %.4f mm creep %.4f mm elastic %.3f first30 %.2f (total %.2f) accel %d conv %d rupt %.1f h  curve:",
                     st.stress_level, st.instant_deformation_m * 1e3, creep * 1e3, st.elastic_share,
                     st.share_in_first_30min, st.total_share_in_first_30min, st.accelerating,
-                    st.converged);
+                    st.converged, st.ruptured ? st.rupture_time_s / 3600.0 : -1.0);
         const double marks[] = {60, 600, 1800, 3600, 7200, 0.6 * st.duration_s, 0.8 * st.duration_s, st.duration_s};
         for (double tm : marks) {
             double d = st.translated.front().axial_deformation_m;

@@ -128,10 +128,10 @@ int main(int argc, char** argv) {
         for (const auto& e : r.energies)
             if (e.phase_index == 1 + s.stage) { if (first < 0) first = e.step; last = e.step; }
         std::printf("stage %d S=%.2f: instant %.4f mm, final %.4f mm, elastic share %.3f, 30-min share %.0f %% "
-                    "(of the whole stage deformation %.0f %%), converged %d, accelerating %d, steps %ld\n",
+                    "(of the whole stage deformation %.0f %%), converged %d, accelerating %d, ruptured at %.1f h, steps %ld\n",
                     s.stage, s.stress_level, s.instant_deformation_m * 1e3, s.final_deformation_m * 1e3,
                     s.elastic_share, s.share_in_first_30min * 100, s.total_share_in_first_30min * 100, s.converged,
-                    s.accelerating, last - first);
+                    s.accelerating, s.ruptured ? s.rupture_time_s / 3600.0 : -1.0, last - first);
     }
     std::printf("creep relaxations %ld (holds: %s servo gain, loading ramp %s, rest criterion %s (%.1e per 1000 "
                 "cycles), legacy drift criterion %s)\n",

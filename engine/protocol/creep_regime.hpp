@@ -19,7 +19,8 @@ struct CreepRegime {
 // (group A at S = 0.8: 0.12, 0.08, 0.41, 4.34, 2.04 mm per fifth). The minimum is taken over
 // fifths 2-4 (the first holds the primary creep). The late creep must also be a real share
 // of the stage's creep (5 %), so a converged stage's reading noise cannot raise the flag.
-// A stage that ran away (`ruptured`) is accelerating by definition.
+// A stage that ruptured (`ruptured`: ran away, or collapsed, below) is accelerating by
+// definition.
 inline CreepRegime classify_creep_regime(const CreepStageResult& st, double duration_s, bool ruptured) {
     const double creep_part = st.final_deformation_m - st.instant_deformation_m;
     double fifth[5];
@@ -32,6 +33,17 @@ inline CreepRegime classify_creep_regime(const CreepStageResult& st, double dura
                                   late > 0.05 * std::max(creep_part, 1e-12));
     r.converged = !r.accelerating && (creep_part <= 0.0 || late < 0.1 * creep_part);
     return r;
+}
+
+// Creep rupture by collapse: within one increment of physical time at constant load the
+// specimen shortens by more than the stage's whole loading step did. The held load then has
+// no static equilibrium near the current strain: the skeleton gave way (a shear band, a
+// cascade of corroded bonds), which is how the paper's S = 0.8 specimens "develop toward the
+// destruction". A lab stops the stage there; a DEM specimen driven on finds a new
+// equilibrium several per cent of strain later (crushed, denser), and its quiet tail would
+// read as converged creep (docs/creep.md, "Regime flags").
+inline bool creep_collapse(double increment_deformation_m, double loading_deformation_m) {
+    return loading_deformation_m > 0.0 && increment_deformation_m > loading_deformation_m;
 }
 
 }  // namespace triax::protocol

@@ -43,6 +43,10 @@ struct CreepStageResult {
     double elastic_share = 0.0;          // instant / final
     bool converged = false;              // creep rate decays (not accelerating) at the end
     bool accelerating = false;           // tertiary creep detected late in the stage
+    // Creep rupture: the platen ran away or the specimen collapsed (creep_regime.hpp); the
+    // stage, and the test, end at rupture_time_s (stage time), as a lab's would.
+    bool ruptured = false;
+    double rupture_time_s = 0.0;
     int failed_grains = 0;               // grains broken by static fatigue (D = D_max) by the stage end, cumulative
     int instant_failed_grains = 0;       // of them, broken at once at the stage's loading step (instant crushing)
 };

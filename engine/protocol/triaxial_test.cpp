@@ -368,11 +368,13 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             };
             record(0.0);
             sample_spheres(t_total);
+            const double d_loading = z_top0 - sp.top_z() - d_before;
             const auto dts = creep::creep_time_increments(st.duration_s, scheme.creep.first_increment_s,
                                                           scheme.creep.increment_growth, scheme.creep.max_increment_s);
             double t = 0.0;
             bool failed = false;
             for (std::size_t n = 0; n < dts.size(); ++n) {
+                const double d_increment_start = z_top0 - sp.top_z();
                 // Split the increment while it would relax too much shear force at once:
                 // the mechanical relaxation then follows the creep (increment convergence).
                 double left = dts[n];
@@ -417,7 +419,14 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 if (n % 4 == 3 || n + 1 == dts.size()) sample_spheres(t_total + t);
                 prog.report(stage, 2 + k, t / st.duration_s);
                 // Creep rupture: the platen runs away beyond the shear test's range.
-                if ((z_top0 - sp.top_z()) / hc > std::max(0.25, eps_max + 0.05)) { failed = true; break; }
+                if ((z_top0 - sp.top_z()) / hc > std::max(0.25, eps_max + 0.05)) failed = true;
+                // ... or it collapses within one increment.
+                if (creep_collapse(z_top0 - sp.top_z() - d_increment_start, d_loading)) failed = true;
+                if (failed) {
+                    st.ruptured = true;
+                    st.rupture_time_s = t;
+                    break;
+                }
             }
             // Per-stage curves and summary numbers.
             std::vector<creep::TimeDeformation> stage_raw;

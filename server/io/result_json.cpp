@@ -26,7 +26,9 @@ json result_summary_to_json(const TestResult& r) {
                           {"share_in_first_30min_pct", s.share_in_first_30min * kPct},
                           {"total_share_in_first_30min_pct", s.total_share_in_first_30min * kPct},
                           {"converged", s.converged},
-                          {"accelerating", s.accelerating}});
+                          {"accelerating", s.accelerating},
+                          {"ruptured", s.ruptured},
+                          {"rupture_time_min", s.ruptured ? json(s.rupture_time_s * kMin) : json()}});
     }
     return {{"scheme_name", r.scheme_name},
             {"sigma3_kPa", r.sigma3_pa * kPa},

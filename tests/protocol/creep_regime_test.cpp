@@ -60,3 +60,15 @@ TEST_CASE("a stage that ran away is accelerating whatever its curve", "[protocol
     CHECK(r.accelerating);
     CHECK_FALSE(r.converged);
 }
+
+TEST_CASE("a creep jump larger than the stage's loading step is a collapse (rupture)", "[protocol][regime]") {
+    // Group D, preset micro with the cement neck at 0.6 (session 18): 9.65 mm in the hour
+    // after 13.3 h at S = 0.8, after a loading step of 0.37 mm.
+    CHECK(creep_collapse(9.65e-3, 0.366e-3));
+    // Group C at S = 0.8 (same micro): its largest hourly creep, 0.35 mm, after a 2.83-mm
+    // loading step, is accelerating creep, not a collapse.
+    CHECK_FALSE(creep_collapse(0.35e-3, 2.83e-3));
+    // Equal is not more; a stage with no loading step has no scale to collapse against.
+    CHECK_FALSE(creep_collapse(1e-3, 1e-3));
+    CHECK_FALSE(creep_collapse(1e-3, 0.0));
+}
