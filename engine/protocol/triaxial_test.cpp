@@ -413,15 +413,21 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                     il.max_force_ratio = fs.max_ratio;
                     il.deformation_m = z_top0 - sp.top_z();
                     obs.creep_increment(il);
+                    // A collapse is read piece by piece: driven on, its relaxations run at
+                    // their cycle cap, piece after piece, until the specimen finds a new
+                    // equilibrium several per cent of strain later.
+                    if (creep_collapse(il.deformation_m - d_increment_start, d_loading)) {
+                        failed = true;
+                        break;
+                    }
                 }
-                t += dts[n];
+                t += dts[n] - left;
                 record(t);
                 if (n % 4 == 3 || n + 1 == dts.size()) sample_spheres(t_total + t);
                 prog.report(stage, 2 + k, t / st.duration_s);
                 // Creep rupture: the platen runs away beyond the shear test's range.
                 if ((z_top0 - sp.top_z()) / hc > std::max(0.25, eps_max + 0.05)) failed = true;
-                // ... or it collapses within one increment.
-                if (creep_collapse(z_top0 - sp.top_z() - d_increment_start, d_loading)) failed = true;
+                // (... or it collapsed within the increment, above.)
                 if (failed) {
                     st.ruptured = true;
                     st.rupture_time_s = t;

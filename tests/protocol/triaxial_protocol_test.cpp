@@ -113,8 +113,9 @@ TEST_CASE("(2b) at 200 kPa the specimen contracts throughout", "[protocol][slow]
     CHECK(hard.shear.back().volumetric_strain < 0.0);
     CHECK(breakage_energy(hard) == 0.0);
     // And crushing grows with pressure: breakage energy at 200 kPa is several times
-    // that at 50 kPa.
-    CHECK(breakage_energy(r) > 4.0 * breakage_energy(shear_run(50e3, true)));
+    // that at 50 kPa (3.2 x with the presets' cement neck, session 18: necks carrying
+    // moments load the low-pressure skeleton's grains harder; over 4 x without).
+    CHECK(breakage_energy(r) > 3.0 * breakage_energy(shear_run(50e3, true)));
     // Finding (1) holds with crushable grains too.
     const auto& lo = shear_run(50e3, true);
     for (double eps : {0.02, 0.04, 0.06}) CHECK(q_at(r, eps) > q_at(lo, eps));
@@ -164,7 +165,7 @@ static const TestResult& preset_creep_run() {
     return r;
 }
 
-TEST_CASE("(3b) the paper-group preset B: the four creep regimes, S=0.8 speeds up late", "[protocol][slow]") {
+TEST_CASE("(3b) the paper-group preset B: the four creep regimes, S=0.8 speeds up late", "[protocol][slow][preset]") {
     // A full-size run (about 5-6 min on one core).
     const auto& r = preset_creep_run();
     REQUIRE(r.creep_stages.size() == 4);
