@@ -146,13 +146,14 @@ TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
 }
 
 // The paper's creep regimes on the paper-group preset itself (session 12, docs/creep.md
-// "Crushing that breaks the bond"): the full-size group-B specimen with the presets'
-// cohesive, crushable fill (Mohr-Coulomb bonds of 500 kPa that carry its cohesion, grains
-// that crush at 1 MPa and lose their bond when they do, bond corrosion at b1 = 3e-10 1/s),
-// in the preset's 60-h stages. S = 0.8 lies above the strength the skeleton keeps once its
-// over-loaded bonds have corroded: it creeps on and speeds up late. By the flags the four
-// regimes held on seeds 1, 2, 4 and 5 of five (seed 3: S = 0.8 settles after 3.5 mm of
-// creep).
+// "Crushing that breaks the bond" and, since session 18, "The neck in the presets"): the
+// full-size group-B specimen with the presets' cohesive, crushable fill (Mohr-Coulomb bonds
+// of 500 kPa with a cement neck that carry its cohesion, grains that crush at 1 MPa and lose
+// their bond when they do, bond corrosion at b1 = 3e-10 1/s), in the preset's 60-h stages.
+// S = 0.8 lies above the strength the skeleton keeps once its over-loaded bonds have
+// corroded: it creeps on, speeds up late and collapses at 42 h (creep rupture). With the
+// neck the four regimes held on seeds 1 and 2 of three (seed 3: S = 0.8 settles after 3.5 mm
+// of creep).
 static const TestResult& preset_creep_run() {
     static const TestResult r = [] {
         RunObserver none;
@@ -166,7 +167,7 @@ static const TestResult& preset_creep_run() {
 }
 
 TEST_CASE("(3b) the paper-group preset B: the four creep regimes, S=0.8 speeds up late", "[protocol][slow][preset]") {
-    // A full-size run (about 5-6 min on one core).
+    // A full-size run (about 8 min on one core).
     const auto& r = preset_creep_run();
     REQUIRE(r.creep_stages.size() == 4);
     CHECK(r.creep_stages[0].elastic_share >= 0.9);
@@ -179,6 +180,9 @@ TEST_CASE("(3b) the paper-group preset B: the four creep regimes, S=0.8 speeds u
     const auto& s4 = r.creep_stages[3];
     CHECK(s4.accelerating);
     CHECK_FALSE(s4.converged);
+    // It collapses (creep rupture), late: after more than a day at constant load.
+    CHECK(s4.ruptured);
+    CHECK(s4.rupture_time_s > 24 * 3600.0);
     // Late, not at loading: the first hour holds less than a fifth of the stage's creep,
     // and the stage creeps far more than the converging ones.
     const double creep4 = s4.final_deformation_m - s4.instant_deformation_m;
