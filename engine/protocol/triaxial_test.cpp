@@ -372,7 +372,6 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             const auto dts = creep::creep_time_increments(st.duration_s, scheme.creep.first_increment_s,
                                                           scheme.creep.increment_growth, scheme.creep.max_increment_s);
             double t = 0.0;
-            bool failed = false;
             for (std::size_t n = 0; n < dts.size(); ++n) {
                 const double d_increment_start = z_top0 - sp.top_z();
                 // Split the increment while it would relax too much shear force at once:
@@ -417,7 +416,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                     // their cycle cap, piece after piece, until the specimen finds a new
                     // equilibrium several per cent of strain later.
                     if (creep_collapse(il.deformation_m - d_increment_start, d_loading)) {
-                        failed = true;
+                        st.ruptured = true;
                         break;
                     }
                 }
@@ -426,10 +425,9 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 if (n % 4 == 3 || n + 1 == dts.size()) sample_spheres(t_total + t);
                 prog.report(stage, 2 + k, t / st.duration_s);
                 // Creep rupture: the platen runs away beyond the shear test's range.
-                if ((z_top0 - sp.top_z()) / hc > std::max(0.25, eps_max + 0.05)) failed = true;
+                if ((z_top0 - sp.top_z()) / hc > std::max(0.25, eps_max + 0.05)) st.ruptured = true;
                 // (... or it collapsed within the increment, above.)
-                if (failed) {
-                    st.ruptured = true;
+                if (st.ruptured) {
                     st.rupture_time_s = t;
                     break;
                 }
@@ -448,13 +446,13 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             st.share_in_first_30min = creep_part > 0.0 ? std::clamp((d30 - st.instant_deformation_m) / creep_part, 0.0, 1.0) : 1.0;
             st.total_share_in_first_30min =
                 st.final_deformation_m > 0.0 ? std::clamp(d30 / st.final_deformation_m, 0.0, 1.0) : 1.0;
-            const CreepRegime regime = classify_creep_regime(st, t, failed);
+            const CreepRegime regime = classify_creep_regime(st, t, st.ruptured);
             st.accelerating = regime.accelerating;
             st.converged = regime.converged;
             for (double d : sp.fatigue_damage()) st.failed_grains += d >= kFatigueDamageMax ? 1 : 0;
             res.creep_stages.push_back(st);
             t_total += t;
-            if (failed) break;
+            if (st.ruptured) break;
         }
         res.total_steps = shear_steps + w.step();
     } catch (const Progress::Cancelled&) {
