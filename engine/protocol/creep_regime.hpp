@@ -19,9 +19,9 @@ struct CreepRegime {
 // (group A at S = 0.8: 0.12, 0.08, 0.41, 4.34, 2.04 mm per fifth). The minimum is taken over
 // fifths 2-4 (the first holds the primary creep). The late creep must also be a real share
 // of the stage's creep (5 %), so a converged stage's reading noise cannot raise the flag.
-// A stage that ruptured (`ruptured`: ran away, or collapsed, below) is accelerating by
+// A stage that ruptured (`st.ruptured`: ran away, or collapsed, below) is accelerating by
 // definition.
-inline CreepRegime classify_creep_regime(const CreepStageResult& st, double duration_s, bool ruptured) {
+inline CreepRegime classify_creep_regime(const CreepStageResult& st, double duration_s) {
     const double creep_part = st.final_deformation_m - st.instant_deformation_m;
     double fifth[5];
     for (int i = 0; i < 5; ++i)
@@ -29,7 +29,7 @@ inline CreepRegime classify_creep_regime(const CreepStageResult& st, double dura
     const double late = fifth[4];
     const double slowest_before = std::min({fifth[1], fifth[2], fifth[3]});
     CreepRegime r;
-    r.accelerating = ruptured || (late > 1.3 * std::max(slowest_before, 0.0) &&
+    r.accelerating = st.ruptured || (late > 1.3 * std::max(slowest_before, 0.0) &&
                                   late > 0.05 * std::max(creep_part, 1e-12));
     r.converged = !r.accelerating && (creep_part <= 0.0 || late < 0.1 * creep_part);
     return r;

@@ -446,7 +446,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             st.share_in_first_30min = creep_part > 0.0 ? std::clamp((d30 - st.instant_deformation_m) / creep_part, 0.0, 1.0) : 1.0;
             st.total_share_in_first_30min =
                 st.final_deformation_m > 0.0 ? std::clamp(d30 / st.final_deformation_m, 0.0, 1.0) : 1.0;
-            const CreepRegime regime = classify_creep_regime(st, t, st.ruptured);
+            const CreepRegime regime = classify_creep_regime(st, t);
             st.accelerating = regime.accelerating;
             st.converged = regime.converged;
             for (double d : sp.fatigue_damage()) st.failed_grains += d >= kFatigueDamageMax ? 1 : 0;

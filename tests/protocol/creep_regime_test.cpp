@@ -29,34 +29,36 @@ CreepStageResult stage_with_fifths(double instant_mm, const std::vector<double>&
 
 TEST_CASE("a stage whose creep rate passes a minimum and rises is tertiary", "[protocol][regime]") {
     // Group A at S = 0.8 (session 12): fastest in the fourth fifth, still fast in the fifth.
-    const auto a = classify_creep_regime(stage_with_fifths(0.29, {0.12, 0.08, 0.41, 4.34, 2.04}), kStage, false);
+    const auto a = classify_creep_regime(stage_with_fifths(0.29, {0.12, 0.08, 0.41, 4.34, 2.04}), kStage);
     CHECK(a.accelerating);
     CHECK_FALSE(a.converged);
     // Group B seed 1: speeds up over the last three fifths.
-    const auto b = classify_creep_regime(stage_with_fifths(0.50, {0.81, 0.14, 0.15, 0.26, 0.59}), kStage, false);
+    const auto b = classify_creep_regime(stage_with_fifths(0.50, {0.81, 0.14, 0.15, 0.26, 0.59}), kStage);
     CHECK(b.accelerating);
 }
 
 TEST_CASE("decaying creep converges, late bursts that die out are not tertiary", "[protocol][regime]") {
     // Primary creep decaying like a log: converged.
-    const auto d = classify_creep_regime(stage_with_fifths(0.27, {30.0, 5.0, 2.5, 1.6, 1.2}), kStage, false);
+    const auto d = classify_creep_regime(stage_with_fifths(0.27, {30.0, 5.0, 2.5, 1.6, 1.2}), kStage);
     CHECK_FALSE(d.accelerating);
     CHECK(d.converged);
     // Group D at S = 0.8 (session 12): a burst in the third fifth, then it settles.
-    const auto b = classify_creep_regime(stage_with_fifths(5.08, {3.01, 0.11, 0.40, 0.15, 0.01}), kStage, false);
+    const auto b = classify_creep_regime(stage_with_fifths(5.08, {3.01, 0.11, 0.40, 0.15, 0.01}), kStage);
     CHECK_FALSE(b.accelerating);
     CHECK(b.converged);
 }
 
 TEST_CASE("reading noise on a converged stage does not raise the tertiary flag", "[protocol][regime]") {
     // The last fifth is twice the slowest earlier fifth, but holds under 5 % of the creep.
-    const auto n = classify_creep_regime(stage_with_fifths(0.37, {4.0, 0.3, 0.1, 0.15, 0.2}), kStage, false);
+    const auto n = classify_creep_regime(stage_with_fifths(0.37, {4.0, 0.3, 0.1, 0.15, 0.2}), kStage);
     CHECK_FALSE(n.accelerating);
     CHECK(n.converged);
 }
 
 TEST_CASE("a stage that ran away is accelerating whatever its curve", "[protocol][regime]") {
-    const auto r = classify_creep_regime(stage_with_fifths(0.5, {1.0, 0.5, 0.2, 0.1, 0.05}), kStage, true);
+    auto ran_away = stage_with_fifths(0.5, {1.0, 0.5, 0.2, 0.1, 0.05});
+    ran_away.ruptured = true;
+    const auto r = classify_creep_regime(ran_away, kStage);
     CHECK(r.accelerating);
     CHECK_FALSE(r.converged);
 }
