@@ -1,5 +1,6 @@
 #include "server/io/scheme_json.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <vector>
@@ -155,16 +156,29 @@ std::string pointer_for(const std::string& si_field) {
 
 TestScheme scheme_from_json(const json& j) {
     if (!j.is_object()) throw SchemeError("", "a scheme must be a JSON object");
-    TestScheme s;
     static const std::vector<std::string> sections = {"specimen", "gradation", "micro", "creep", "loading", "effects"};
+    static const std::vector<std::string> scalars = {"name", "preset", "seed", "threads", "max_particles"};
     for (auto it = j.begin(); it != j.end(); ++it) {
         const std::string& k = it.key();
-        const bool known = k == "name" || k == "seed" || k == "threads" || k == "max_particles" ||
-                           std::find(sections.begin(), sections.end(), k) != sections.end();
-        if (!known) throw SchemeError("/" + k, "unknown field");
-        if (k != "name" && k != "seed" && k != "threads" && k != "max_particles" && !it.value().is_object())
-            throw SchemeError("/" + k, "must be an object");
+        const bool scalar = std::find(scalars.begin(), scalars.end(), k) != scalars.end();
+        if (!scalar && std::find(sections.begin(), sections.end(), k) == sections.end())
+            throw SchemeError("/" + k, "unknown field");
+        if (!scalar && !it.value().is_object()) throw SchemeError("/" + k, "must be an object");
     }
+    // A scheme may start from a paper group (Table 2 with the presets' micro-parameters) and
+    // change only what differs, e.g. {"preset": "C", "seed": 3}; without it, the bare
+    // defaults of TestScheme.
+    TestScheme s;
+    if (j.contains("preset")) {
+        if (!j["preset"].is_string()) throw SchemeError("/preset", "must be one of \"A\", \"B\", \"C\", \"D\", \"E\"");
+        try {
+            s = protocol::paper_group(j["preset"].get<std::string>());
+        } catch (const InputError&) {
+            throw SchemeError("/preset", "unknown paper group '" + j["preset"].get<std::string>() + "' (valid: A, B, C, D, E)");
+        }
+    }
+    const double default_stage_s = s.loading.stage_durations_s.empty() ? protocol::LoadingSpec{}.stage_durations_s.front()
+                                                                         : s.loading.stage_durations_s.front();
     if (j.contains("name")) {
         if (!j["name"].is_string()) throw SchemeError("/name", "must be a string");
         s.name = j["name"].get<std::string>();
@@ -230,8 +244,8 @@ TestScheme scheme_from_json(const json& j) {
         if (l.contains("stress_levels")) s.loading.stress_levels = number_array(l["stress_levels"], "/loading/stress_levels", 1.0);
         if (l.contains("stage_durations_min"))
             s.loading.stage_durations_s = number_array(l["stage_durations_min"], "/loading/stage_durations_min", 60.0);
-        else if (l.contains("stress_levels"))  // one default duration per stage
-            s.loading.stage_durations_s.assign(s.loading.stress_levels.size(), protocol::LoadingSpec{}.stage_durations_s.front());
+        else if (l.contains("stress_levels"))  // one default (or the preset's) duration per stage
+            s.loading.stage_durations_s.assign(s.loading.stress_levels.size(), default_stage_s);
         if (l.contains("stress_level_definition")) {
             const auto& d = l["stress_level_definition"];
             if (d == "q_over_qf") s.loading.stress_level_definition = protocol::StressLevelDefinition::DeviatorRatio;

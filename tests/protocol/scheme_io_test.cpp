@@ -159,3 +159,29 @@ TEST_CASE("paper-group presets give a full-size DEM specimen of thousands of gra
     literal.radius_ratio = 39.712;
     CHECK(protocol::draw_radii(literal, solid, literal_rng).size() < 300);
 }
+
+TEST_CASE("a scheme may start from a paper group and change only what differs", "[protocol][io]") {
+    const auto c = protocol::paper_group("C");
+    const auto s = io::scheme_from_json(json{{"preset", "C"}, {"seed", 3}, {"loading", {{"stress_levels", {0.2, 0.9}}}}});
+    // The group's own fields...
+    CHECK(s.loading.confining_pressure_pa == Approx(200e3));
+    CHECK(s.micro.crushing_strength_pa == Approx(c.micro.crushing_strength_pa));
+    CHECK(s.micro.bond_rolling_friction == Approx(c.micro.bond_rolling_friction));
+    CHECK(s.gradation.r_min_m == Approx(c.gradation.r_min_m));
+    CHECK(s.name == c.name);
+    // ...and what the scheme names; new stages take the group's stage duration (2.5 days).
+    CHECK(s.seed == 3);
+    CHECK(s.loading.stress_levels == std::vector<double>{0.2, 0.9});
+    CHECK(s.loading.stage_durations_s == std::vector<double>{c.loading.stage_durations_s.front(), c.loading.stage_durations_s.front()});
+    // Without a preset the bare defaults stand.
+    CHECK(io::scheme_from_json(json::object()).micro.crushing_strength_pa == 0.0);
+    // An unknown group is named by its pointer.
+    try {
+        io::scheme_from_json(json{{"preset", "F"}});
+        FAIL("no error for preset F");
+    } catch (const io::SchemeError& e) {
+        CHECK(e.field == "/preset");
+        CHECK(std::string(e.what()).find("A, B, C, D, E") != std::string::npos);
+    }
+    CHECK_THROWS_AS(io::scheme_from_json(json{{"preset", 2}}), io::SchemeError);
+}
