@@ -60,6 +60,14 @@ inline double deformation_at(const CreepStageResult& st, double t_s) {
     return d;
 }
 
+// Axial strain on a stage's translated curve at stage time t_s (the reading as above).
+inline double strain_at(const CreepStageResult& st, double t_s) {
+    double e = st.translated.front().axial_strain;
+    for (const auto& p : st.translated)
+        if (p.time_s <= t_s) e = p.axial_strain;
+    return e;
+}
+
 // One sample of the energy ledger (cumulative, J).
 struct EnergySample {
     int phase_index = 0;                 // 0 consolidation, 1 shear, 2.. creep stages

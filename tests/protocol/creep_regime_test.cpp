@@ -9,17 +9,18 @@ using namespace triax::protocol;
 
 namespace {
 constexpr double kStage = 60.0 * 3600.0;
+constexpr double kHeight = 0.2;  // the paper's specimen (m)
 
-// A stage of 60 h whose curve is the loading step, then `per_fifth` mm of creep in each
-// fifth, spread evenly over 12 readings per fifth (the lab's readings).
+// A stage of 60 h on the 200-mm specimen whose curve is the loading step, then `per_fifth`
+// mm of creep in each fifth, spread evenly over 12 readings per fifth (the lab's readings).
 CreepStageResult stage_with_fifths(double instant_mm, const std::vector<double>& per_fifth_mm) {
     CreepStageResult st;
     double d = instant_mm * 1e-3;
-    st.translated.push_back({0.0, d, 0.0});
+    st.translated.push_back({0.0, d, d / kHeight});
     for (int f = 0; f < 5; ++f)
         for (int i = 1; i <= 12; ++i) {
             d += per_fifth_mm[f] * 1e-3 / 12.0;
-            st.translated.push_back({(f + i / 12.0) * kStage / 5.0, d, 0.0});
+            st.translated.push_back({(f + i / 12.0) * kStage / 5.0, d, d / kHeight});
         }
     st.instant_deformation_m = st.translated.front().axial_deformation_m;
     st.final_deformation_m = st.translated.back().axial_deformation_m;
@@ -73,4 +74,20 @@ TEST_CASE("a creep jump larger than the stage's loading step is a collapse (rupt
     // Equal is not more; a stage with no loading step has no scale to collapse against.
     CHECK_FALSE(creep_collapse(1e-3, 1e-3));
     CHECK_FALSE(creep_collapse(1e-3, 0.0));
+}
+
+TEST_CASE("creep below the reading resolution neither speeds a stage up nor keeps it unsettled", "[protocol][regime]") {
+    // Group D seed 5 at S = 0.6 (presets, session 19): the last fifth creeps 1.4 x the fourth,
+    // but 2.3 um in 12 h on a 200-mm specimen is below a 0.01-mm reading.
+    const auto d5 = classify_creep_regime(stage_with_fifths(0.2009, {0.0102, 0.0038, 0.0024, 0.0016, 0.0023}), kStage);
+    CHECK_FALSE(d5.accelerating);
+    CHECK(d5.converged);
+    // The same shape ten times larger is readable, and tertiary.
+    const auto big = classify_creep_regime(stage_with_fifths(2.009, {0.102, 0.038, 0.024, 0.016, 0.023}), kStage);
+    CHECK(big.accelerating);
+    CHECK_FALSE(big.converged);
+    // Steady readable creep (group A seed 4 at S = 0.8, presets): neither settled nor tertiary.
+    const auto a4 = classify_creep_regime(stage_with_fifths(0.2188, {0.036, 0.038, 0.039, 0.038, 0.017}), kStage);
+    CHECK_FALSE(a4.accelerating);
+    CHECK_FALSE(a4.converged);
 }
