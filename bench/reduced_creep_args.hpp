@@ -2,7 +2,7 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: group (A-E: the full-size paper group, given first) A beta sh eps age fc af swf(um) sw dmax ssw ssl(um) cbl b1 b2 fth
+// Keys: group (A-E: the full-size paper group, given first) h4 (the last stage's hours) A beta sh eps age fc af swf(um) sw dmax ssw ssl(um) cbl b1 b2 fth
 //       bmu (bond friction) brf (bond rolling friction: the cement neck) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
 //       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio; < 0 softens) cres (residual ratio of a softening contact) cfl (friction loss of a crushed contact) cbb (1: a crushing contact loses its bond) relax t0(s) nf rcap drive(0 capped peak force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters: bonds and
@@ -24,6 +24,7 @@ namespace triax::bench {
 struct ReducedCreepArgs {
     protocol::TestScheme scheme;
     double hours = 4.0;         // each of the 4 stages
+    double last_hours = 0.0;    // the last stage's, if > 0 (key h4)
     double sigma3_kpa = 100.0;
     bool verbose = false;
     int verbose_level = 0;  // verbose=2: also the per-piece schedule log
@@ -108,6 +109,7 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "spread") s.creep.grain_fatigue_strength_spread = v != 0;
     else if (k == "crush") { if (v != 0) s.micro = protocol::paper_group("C").micro; }
     else if (k == "hours") a.hours = v;
+    else if (k == "h4") a.last_hours = v;
     else if (k == "shear") a.shear_only = v != 0;
     else if (k == "seed") s.seed = static_cast<std::uint64_t>(v);
     else if (k == "dmm") { s.specimen.diameter_m = v / 1000; s.specimen.height_m = 2 * v / 1000; }
@@ -147,6 +149,7 @@ inline bool parse_creep_args(ReducedCreepArgs& a, int argc, char** argv, int fir
         if (!apply_creep_arg(a, argv[k])) return false;
     a.scheme.loading.confining_pressure_pa = a.sigma3_kpa * 1e3;
     a.scheme.loading.stage_durations_s.assign(4, a.hours * 3600.0);
+    if (a.last_hours > 0.0) a.scheme.loading.stage_durations_s.back() = a.last_hours * 3600.0;
     return true;
 }
 

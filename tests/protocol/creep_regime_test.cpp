@@ -26,6 +26,13 @@ CreepStageResult stage_with_fifths(double instant_mm, const std::vector<double>&
     st.final_deformation_m = st.translated.back().axial_deformation_m;
     return st;
 }
+
+// Both flags of the stage with these fifths.
+void check_flags(double instant_mm, const std::vector<double>& per_fifth_mm, bool accelerating, bool converged) {
+    const auto r = classify_creep_regime(stage_with_fifths(instant_mm, per_fifth_mm), kStage);
+    CHECK(r.accelerating == accelerating);
+    CHECK(r.converged == converged);
+}
 }  // namespace
 
 TEST_CASE("a stage whose creep rate passes a minimum and rises is tertiary", "[protocol][regime]") {
@@ -40,20 +47,14 @@ TEST_CASE("a stage whose creep rate passes a minimum and rises is tertiary", "[p
 
 TEST_CASE("decaying creep converges, late bursts that die out are not tertiary", "[protocol][regime]") {
     // Primary creep decaying like a log: converged.
-    const auto d = classify_creep_regime(stage_with_fifths(0.27, {30.0, 5.0, 2.5, 1.6, 1.2}), kStage);
-    CHECK_FALSE(d.accelerating);
-    CHECK(d.converged);
+    check_flags(0.27, {30.0, 5.0, 2.5, 1.6, 1.2}, false, true);
     // Group D at S = 0.8 (session 12): a burst in the third fifth, then it settles.
-    const auto b = classify_creep_regime(stage_with_fifths(5.08, {3.01, 0.11, 0.40, 0.15, 0.01}), kStage);
-    CHECK_FALSE(b.accelerating);
-    CHECK(b.converged);
+    check_flags(5.08, {3.01, 0.11, 0.40, 0.15, 0.01}, false, true);
 }
 
 TEST_CASE("reading noise on a converged stage does not raise the tertiary flag", "[protocol][regime]") {
     // The last fifth is twice the slowest earlier fifth, but holds under 5 % of the creep.
-    const auto n = classify_creep_regime(stage_with_fifths(0.37, {4.0, 0.3, 0.1, 0.15, 0.2}), kStage);
-    CHECK_FALSE(n.accelerating);
-    CHECK(n.converged);
+    check_flags(0.37, {4.0, 0.3, 0.1, 0.15, 0.2}, false, true);
 }
 
 TEST_CASE("a stage that ran away is accelerating whatever its curve", "[protocol][regime]") {
@@ -79,15 +80,9 @@ TEST_CASE("a creep jump larger than the stage's loading step is a collapse (rupt
 TEST_CASE("creep below the reading resolution neither speeds a stage up nor keeps it unsettled", "[protocol][regime]") {
     // Group D seed 5 at S = 0.6 (presets, session 19): the last fifth creeps 1.4 x the fourth,
     // but 2.3 um in 12 h on a 200-mm specimen is below a 0.01-mm reading.
-    const auto d5 = classify_creep_regime(stage_with_fifths(0.2009, {0.0102, 0.0038, 0.0024, 0.0016, 0.0023}), kStage);
-    CHECK_FALSE(d5.accelerating);
-    CHECK(d5.converged);
+    check_flags(0.2009, {0.0102, 0.0038, 0.0024, 0.0016, 0.0023}, false, true);
     // The same shape ten times larger is readable, and tertiary.
-    const auto big = classify_creep_regime(stage_with_fifths(2.009, {0.102, 0.038, 0.024, 0.016, 0.023}), kStage);
-    CHECK(big.accelerating);
-    CHECK_FALSE(big.converged);
+    check_flags(2.009, {0.102, 0.038, 0.024, 0.016, 0.023}, true, false);
     // Steady readable creep (group A seed 4 at S = 0.8, presets): neither settled nor tertiary.
-    const auto a4 = classify_creep_regime(stage_with_fifths(0.2188, {0.036, 0.038, 0.039, 0.038, 0.017}), kStage);
-    CHECK_FALSE(a4.accelerating);
-    CHECK_FALSE(a4.converged);
+    check_flags(0.2188, {0.036, 0.038, 0.039, 0.038, 0.017}, false, false);
 }
