@@ -3,7 +3,7 @@
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
 // Keys: group (A-E: the full-size paper group, given first) h4 (the last stage's hours) A beta sh eps age fc af swf(um) sw dmax ssw ssl(um) cbl b1 b2 fth
-//       bmu (bond friction) brf (bond rolling friction: the cement neck) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
+//       bmu (bond friction) blr (bond load ratio) brf (bond rolling friction: the cement neck) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
 //       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio; < 0 softens) cres (residual ratio of a softening contact) cfl (friction loss of a crushed contact) cbb (1: a crushing contact loses its bond) relax t0(s) nf rcap drive(0 capped peak force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters: bonds and
 //       crushable grains) s3(kPa) hours shear (1: no creep) verbose; creep holds (engine/protocol/creep_hold.hpp):
@@ -86,6 +86,7 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "b1") s.creep.damage_rate_b1_per_s = v;
     else if (k == "bmu") s.micro.bond_friction = v;
     else if (k == "brf") s.micro.bond_rolling_friction = v;
+    else if (k == "blr") s.micro.bond_load_ratio = v;
     else if (k == "sigc") s.micro.crushing_strength_pa = v * 1e6;
     else if (k == "wm") s.micro.crushing_weibull_modulus = v;
     else if (k == "ch") s.micro.crushing_hardening_ratio = v;

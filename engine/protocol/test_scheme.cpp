@@ -34,6 +34,7 @@ void TestScheme::validate() const {
     require(micro.bond_normal_strength_pa >= 0.0, "micro.bond_normal_strength_pa", "must be >= 0");
     require(micro.bond_shear_strength_pa >= 0.0, "micro.bond_shear_strength_pa", "must be >= 0");
     require(micro.bond_friction >= 0.0 && micro.bond_friction < 5.0, "micro.bond_friction", "must be in [0, 5)");
+    require(micro.bond_load_ratio >= 0.0 && micro.bond_load_ratio <= 100.0, "micro.bond_load_ratio", "must be in [0, 100]");
     require(micro.bond_rolling_friction >= 0.0 && micro.bond_rolling_friction <= 1.0, "micro.bond_rolling_friction",
             "must be in [0, 1] (the neck's half-width over the contact's effective radius)");
     require(micro.membrane_particle_radius_m >= 0.0, "micro.membrane_particle_radius_m", "must be >= 0");

@@ -57,6 +57,12 @@ struct MicroParameters {
     // below bond_rolling_friction (1 - D) Rbar Fn and cracks there (the bond keeps its
     // cohesion); 0 = no moment (PFC contact bond). docs/creep.md "The cement neck".
     double bond_rolling_friction = 0.0;
+    // A bond cemented under load (engine/protocol/specimen.cpp, install_soil_bonds): its
+    // normal and shear strengths (forces) gain this multiple of the contact's normal force
+    // when the bond forms after consolidation, so the cohesion grows with the consolidation
+    // stress (the cement fills a contact flat that the load made); 0 = strength from
+    // bond_*_strength_pa alone. docs/creep.md "A bond cemented under load".
+    double bond_load_ratio = 0.0;
     // Membrane: bonded particles of one size, force but no moment.
     double membrane_particle_radius_m = 0.0;     // 0 = automatic (about r_min of the soil, >= 1 mm)
     double membrane_stiffness_n_m = 2.0e4;       // bond spring between membrane particles

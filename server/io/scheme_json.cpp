@@ -50,6 +50,7 @@ const std::vector<NumberField>& number_fields() {
         {"micro", "bond_normal_strength_kPa", "micro.bond_normal_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_normal_strength_pa; }, 1e3},
         {"micro", "bond_shear_strength_kPa", "micro.bond_shear_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_shear_strength_pa; }, 1e3},
         {"micro", "bond_friction", "micro.bond_friction", [](TestScheme& s) -> double& { return s.micro.bond_friction; }, 1.0},
+        {"micro", "bond_load_ratio", "micro.bond_load_ratio", [](TestScheme& s) -> double& { return s.micro.bond_load_ratio; }, 1.0},
         {"micro", "bond_rolling_friction", "micro.bond_rolling_friction", [](TestScheme& s) -> double& { return s.micro.bond_rolling_friction; }, 1.0},
         {"micro", "membrane_particle_radius_mm", "micro.membrane_particle_radius_m", [](TestScheme& s) -> double& { return s.micro.membrane_particle_radius_m; }, 1e-3},
         {"micro", "membrane_stiffness_N_m", "micro.membrane_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.membrane_stiffness_n_m; }, 1.0},
