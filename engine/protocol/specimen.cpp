@@ -226,10 +226,11 @@ long Specimen::install_soil_bonds() {
         const int a = c.i[k], b = c.j[k];
         if (world_.particles().group[a] != kSoilGroup || world_.particles().group[b] != kSoilGroup) continue;
         const double rmin = std::min(r[a], r[b]);
+        const double cross_section = kPi * rmin * rmin;
         // Cemented under load: the consolidation force adds to the cement's strength.
         const double under_load = scheme_.micro.bond_load_ratio * std::max(c.normal_force[k], 0.0);
-        c.bond_normal_strength[k] = factor * (scheme_.micro.bond_normal_strength_pa * kPi * rmin * rmin + under_load);
-        c.bond_shear_strength[k] = factor * (scheme_.micro.bond_shear_strength_pa * kPi * rmin * rmin + under_load);
+        c.bond_normal_strength[k] = factor * (scheme_.micro.bond_normal_strength_pa * cross_section + under_load);
+        c.bond_shear_strength[k] = factor * (scheme_.micro.bond_shear_strength_pa * cross_section + under_load);
         ++n;
     }
     return n;

@@ -51,22 +51,18 @@ struct CreepStageResult {
     int instant_failed_grains = 0;       // of them, broken at once at the stage's loading step (instant crushing)
 };
 
-// Deformation (m) on a stage's translated curve at stage time t_s: the last reading at or
-// before t_s (readings are what the lab has; no interpolation between them).
-inline double deformation_at(const CreepStageResult& st, double t_s) {
-    double d = st.translated.front().axial_deformation_m;
+// The reading on a stage's translated curve at stage time t_s: the last one at or before
+// t_s (readings are what the lab has; no interpolation between them).
+inline const CreepPoint& reading_at(const CreepStageResult& st, double t_s) {
+    const CreepPoint* r = &st.translated.front();
     for (const auto& p : st.translated)
-        if (p.time_s <= t_s) d = p.axial_deformation_m;
-    return d;
+        if (p.time_s <= t_s) r = &p;
+    return *r;
 }
 
-// Axial strain on a stage's translated curve at stage time t_s (the reading as above).
-inline double strain_at(const CreepStageResult& st, double t_s) {
-    double e = st.translated.front().axial_strain;
-    for (const auto& p : st.translated)
-        if (p.time_s <= t_s) e = p.axial_strain;
-    return e;
-}
+// Deformation (m) and axial strain of that reading.
+inline double deformation_at(const CreepStageResult& st, double t_s) { return reading_at(st, t_s).axial_deformation_m; }
+inline double strain_at(const CreepStageResult& st, double t_s) { return reading_at(st, t_s).axial_strain; }
 
 // One sample of the energy ledger (cumulative, J).
 struct EnergySample {

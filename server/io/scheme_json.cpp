@@ -171,15 +171,14 @@ TestScheme scheme_from_json(const json& j) {
     // defaults of TestScheme.
     TestScheme s;
     if (j.contains("preset")) {
-        if (!j["preset"].is_string()) throw SchemeError("/preset", "must be one of \"A\", \"B\", \"C\", \"D\", \"E\"");
+        if (!j["preset"].is_string()) throw SchemeError("/preset", "must be the name of a paper group (GET /presets)");
         try {
             s = protocol::paper_group(j["preset"].get<std::string>());
-        } catch (const InputError&) {
-            throw SchemeError("/preset", "unknown paper group '" + j["preset"].get<std::string>() + "' (valid: A, B, C, D, E)");
+        } catch (const InputError& e) {  // the engine's lookup names the valid groups
+            const std::string msg = e.what();
+            throw SchemeError("/preset", msg.substr(msg.find(':') + 2));
         }
     }
-    const double default_stage_s = s.loading.stage_durations_s.empty() ? protocol::LoadingSpec{}.stage_durations_s.front()
-                                                                         : s.loading.stage_durations_s.front();
     if (j.contains("name")) {
         if (!j["name"].is_string()) throw SchemeError("/name", "must be a string");
         s.name = j["name"].get<std::string>();
@@ -245,8 +244,10 @@ TestScheme scheme_from_json(const json& j) {
         if (l.contains("stress_levels")) s.loading.stress_levels = number_array(l["stress_levels"], "/loading/stress_levels", 1.0);
         if (l.contains("stage_durations_min"))
             s.loading.stage_durations_s = number_array(l["stage_durations_min"], "/loading/stage_durations_min", 60.0);
-        else if (l.contains("stress_levels"))  // one default (or the preset's) duration per stage
-            s.loading.stage_durations_s.assign(s.loading.stress_levels.size(), default_stage_s);
+        else if (l.contains("stress_levels")) {  // one default (or the preset's) duration per stage
+            const double each_s = s.loading.stage_durations_s.front();
+            s.loading.stage_durations_s.assign(s.loading.stress_levels.size(), each_s);
+        }
         if (l.contains("stress_level_definition")) {
             const auto& d = l["stress_level_definition"];
             if (d == "q_over_qf") s.loading.stress_level_definition = protocol::StressLevelDefinition::DeviatorRatio;
