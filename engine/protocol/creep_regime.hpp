@@ -32,12 +32,13 @@ struct CreepRegime {
 // 200-mm specimen, read as "accelerating" before the floor).
 inline CreepRegime classify_creep_regime(const CreepStageResult& st, double duration_s) {
     const double creep_part = st.final_deformation_m - st.instant_deformation_m;
+    const CreepPoint* edge[6];  // the readings at the fifths' edges
+    for (int i = 0; i <= 5; ++i) edge[i] = &reading_at(st, i * duration_s / 5.0);
     double fifth[5];
-    for (int i = 0; i < 5; ++i)
-        fifth[i] = deformation_at(st, (i + 1) * duration_s / 5.0) - deformation_at(st, i * duration_s / 5.0);
+    for (int i = 0; i < 5; ++i) fifth[i] = edge[i + 1]->axial_deformation_m - edge[i]->axial_deformation_m;
     const double late = fifth[4];
     const double slowest_before = std::min({fifth[1], fifth[2], fifth[3]});
-    const bool late_readable = strain_at(st, duration_s) - strain_at(st, 0.8 * duration_s) > kReadingResolutionStrain;
+    const bool late_readable = edge[5]->axial_strain - edge[4]->axial_strain > kReadingResolutionStrain;
     CreepRegime r;
     r.accelerating = st.ruptured || (late_readable && late > 1.3 * std::max(slowest_before, 0.0) &&
                                      late > 0.05 * std::max(creep_part, 1e-12));

@@ -153,6 +153,18 @@ std::string pointer_for(const std::string& si_field) {
     return p;
 }
 
+// The engine's InputError reads "field: why" (TestScheme::validate, paper_group); one
+// without a field stands whole for both.
+struct EngineMessage {
+    std::string field, why;
+};
+EngineMessage engine_message(const InputError& e) {
+    const std::string msg = e.what();
+    const auto colon = msg.find(':');
+    if (colon == std::string::npos) return {msg, msg};
+    return {msg.substr(0, colon), msg.substr(colon + 2)};
+}
+
 }  // namespace
 
 TestScheme scheme_from_json(const json& j) {
@@ -175,8 +187,7 @@ TestScheme scheme_from_json(const json& j) {
         try {
             s = protocol::paper_group(j["preset"].get<std::string>());
         } catch (const InputError& e) {  // the engine's lookup names the valid groups
-            const std::string msg = e.what();
-            throw SchemeError("/preset", msg.substr(msg.find(':') + 2));
+            throw SchemeError("/preset", engine_message(e).why);
         }
     }
     if (j.contains("name")) {
@@ -265,11 +276,8 @@ TestScheme scheme_from_json(const json& j) {
     try {
         s.validate();
     } catch (const InputError& e) {
-        const std::string msg = e.what();
-        const auto colon = msg.find(':');
-        const std::string field = msg.substr(0, colon);
-        const std::string why = colon == std::string::npos ? msg : msg.substr(colon + 2);
-        throw SchemeError(pointer_for(field), why);
+        const EngineMessage m = engine_message(e);
+        throw SchemeError(pointer_for(m.field), m.why);
     }
     return s;
 }
