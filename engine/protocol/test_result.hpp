@@ -60,9 +60,8 @@ inline const CreepPoint& reading_at(const CreepStageResult& st, double t_s) {
     return *r;
 }
 
-// Deformation (m) and axial strain of that reading.
+// Deformation (m) of that reading.
 inline double deformation_at(const CreepStageResult& st, double t_s) { return reading_at(st, t_s).axial_deformation_m; }
-inline double strain_at(const CreepStageResult& st, double t_s) { return reading_at(st, t_s).axial_strain; }
 
 // One sample of the energy ledger (cumulative, J).
 struct EnergySample {
