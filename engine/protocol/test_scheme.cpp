@@ -93,6 +93,8 @@ void TestScheme::validate() const {
     require(loading.shear_strain_rate_per_s > 0.0, "loading.shear_strain_rate_per_s", "must be > 0");
     require(loading.max_axial_strain > 0.0 && loading.max_axial_strain <= 0.4, "loading.max_axial_strain",
             "must be in (0, 0.4]");
+    require(loading.max_inertial_number >= 1.0e-5 && loading.max_inertial_number <= 1.0e-2,
+            "loading.max_inertial_number", "must be in [1e-5, 1e-2] (quasi-static shear needs I below about 1e-3)");
     require(loading.consolidation_tolerance > 0.0 && loading.consolidation_tolerance < 0.5,
             "loading.consolidation_tolerance", "must be in (0, 0.5)");
     require(threads >= 1 && threads <= 256, "threads", "must be in [1, 256]");

@@ -171,6 +171,13 @@ struct LoadingSpec {
     std::vector<double> stage_durations_s = {86400.0, 86400.0, 86400.0, 86400.0};  // physical time per stage (1 day)
     double shear_strain_rate_per_s = 1.0e-4 / 60.0; // lab rate (0.01 %/min), mapped to a quasi-static DEM rate
     double max_axial_strain = 0.15;
+    // Shear rate as the largest inertial number of the (density-scaled) grains,
+    // I = eps_dot d sqrt(rho / p): quasi-static below about 1e-3 (GDR MiDi 2004).
+    double max_inertial_number = 5.0e-4;
+    // Strain softening ends the shear (a clear peak, then q 20 % below it past 2 % strain),
+    // as a lab stops a failed specimen; false: the shear runs to max_axial_strain whatever
+    // happens (a calibration against lab readings that go on past the peak).
+    bool stop_at_softening = true;
     double consolidation_tolerance = 1.0e-3;        // mean unbalanced / mean contact force
 };
 

@@ -19,7 +19,6 @@ namespace triax::protocol {
 namespace {
 
 constexpr long kChunk = 50;                 // cycles between servo / record updates
-constexpr double kInertialTarget = 5.0e-4;  // quasi-static shear: I well under 1e-3
 constexpr double kStressTolerance = 0.01;   // relative, servo targets
 
 // The run's clock and the progress line: weights per phase of the whole run.
@@ -177,7 +176,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         }
         const double rho_inertial = sp.soil_density() * m_inertial / m_true;
         res.inertial_density_kg_m3 = rho_inertial;
-        const double rate = kInertialTarget * std::sqrt(p0 / rho_inertial) / sp.mean_diameter();
+        const double rate = scheme.loading.max_inertial_number * std::sqrt(p0 / rho_inertial) / sp.mean_diameter();
         const double seating = scheme.effects.seating_error ? scheme.effects.seating_displacement_m : 0.0;
         shear_speed = rate * h0;
         w.plane_wall(sp.top_wall()).velocity = Vec3(0, 0, -rate * h0);
@@ -218,7 +217,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             }
             if (eps_a >= eps_max) break;
             // Failure: a clear peak, then a 20 % drop (strain softening) ends the shear.
-            if (q_peak > 0.0 && !res.shear.empty() && res.shear.back().q_pa < 0.8 * q_peak && eps_a > 0.02) break;
+            if (scheme.loading.stop_at_softening && q_peak > 0.0 && !res.shear.empty() && res.shear.back().q_pa < 0.8 * q_peak && eps_a > 0.02) break;
         }
         w.plane_wall(sp.top_wall()).velocity.setZero();
         }

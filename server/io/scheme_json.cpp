@@ -91,6 +91,7 @@ const std::vector<NumberField>& number_fields() {
         {"loading", "shear_strain_rate_pct_per_min", "loading.shear_strain_rate_per_s", [](TestScheme& s) -> double& { return s.loading.shear_strain_rate_per_s; }, 0.01 / 60.0},
         {"loading", "max_axial_strain_pct", "loading.max_axial_strain", [](TestScheme& s) -> double& { return s.loading.max_axial_strain; }, 0.01},
         {"loading", "consolidation_tolerance", "loading.consolidation_tolerance", [](TestScheme& s) -> double& { return s.loading.consolidation_tolerance; }, 1.0},
+        {"loading", "max_inertial_number", "loading.max_inertial_number", [](TestScheme& s) -> double& { return s.loading.max_inertial_number; }, 1.0},
         {"effects", "rolling_friction", "effects.rolling_friction", [](TestScheme& s) -> double& { return s.effects.rolling_friction; }, 1.0},
         {"effects", "breakage_damage_scale", "effects.breakage_damage_scale", [](TestScheme& s) -> double& { return s.effects.breakage_damage_scale; }, 1.0},
         {"effects", "viscosity_scale", "effects.viscosity_scale", [](TestScheme& s) -> double& { return s.effects.viscosity_scale; }, 1.0},
@@ -110,6 +111,7 @@ const std::vector<BoolField>& bool_fields() {
         {"effects", "seating_error", [](TestScheme& s) -> bool& { return s.effects.seating_error; }},
         {"effects", "membrane_compliance", [](TestScheme& s) -> bool& { return s.effects.membrane_compliance; }},
         {"micro", "crushing_breaks_bond", [](TestScheme& s) -> bool& { return s.micro.crushing_breaks_bond; }},
+        {"loading", "stop_at_softening", [](TestScheme& s) -> bool& { return s.loading.stop_at_softening; }},
         {"creep", "grain_fatigue_strength_spread", [](TestScheme& s) -> bool& { return s.creep.grain_fatigue_strength_spread; }},
     };
     return f;
