@@ -9,6 +9,8 @@
 #include <string>
 
 #include "engine/diagnose/diagnosis.hpp"
+#include "engine/diagnose/lab_macro.hpp"
+#include "engine/diagnose/simulation_batch.hpp"
 #include "engine/protocol/triaxial_test.hpp"
 
 namespace triax::diagnose {
@@ -29,11 +31,33 @@ private:
 
 DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads,
                                  int max_particles, const DiagnoseObserver* cancel)
-    : base_(base), cancel_(cancel) {
-    base_.validate();
+    : scheme_(base), base_(base), cancel_(cancel) {
+    scheme_.validate();
     if (threads > 0) base_.threads = threads;
     if (max_particles > 0) base_.max_particles = max_particles;
-    bonded_ = base_.effects.moisture_bonding && base_.micro.bond_normal_strength_pa > 0.0;
+    // The catalog's effects out of the base (dem_forward_model.hpp).
+    auto& m = base_.micro;
+    auto& fx = base_.effects;
+    m.rolling_friction = 0.0;
+    m.bond_rolling_friction = 0.0;
+    m.crushing_strength_pa = 0.0;
+    fx.rolling_resistance = false;
+    fx.grain_breakage = false;
+    fx.breakage_damage_scale = 1.0;
+    fx.contact_creep_viscosity = false;
+    fx.seating_error = false;
+    fx.membrane_compliance = false;
+    // Bonds as one base parameter: their strength in Pa, from 0, as the specimen has it (the
+    // moisture relation would only rescale what the calibration sets).
+    const double scheme_bond = std::max(m.bond_normal_strength_pa, m.bond_shear_strength_pa);
+    bond_strength_max_pa_ = std::max(3.0 * scheme_bond, 300.0e3);
+    const LabMacro macro = lab_macro(lab);
+    double mean_q = 0.0;
+    for (const auto& sh : macro.shear) mean_q += sh.q_peak_pa / static_cast<double>(macro.shear.size());
+    // Cohesionless start unless the lab's peak envelope has an intercept worth 5 % of q.
+    const bool cohesive = macro.shear.empty() ? scheme_bond > 0.0 : macro.peak_cohesion_pa > 0.05 * mean_q;
+    bond_strength_nominal_pa_ = cohesive ? std::min(scheme_bond > 0.0 ? scheme_bond : 100.0e3, bond_strength_max_pa_) : 0.0;
+    fx.moisture_bonding = false;
 
     // One condition per confining pressure (2 % tolerance: lab cells drift a little).
     for (const auto& c : lab.curves) {
@@ -42,9 +66,11 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
             return std::abs(k.confining_pa - c.confining_pa) <= 0.02 * c.confining_pa;
         });
         if (it == conditions_.end()) {
-            conditions_.push_back({c.confining_pa, false, base_.loading.stress_levels, base_.loading.stage_durations_s});
+            conditions_.push_back({c.confining_pa, false, base_.loading.stress_levels, base_.loading.stage_durations_s, 0.0});
             it = conditions_.end() - 1;
         }
+        if (c.kind == CurveKind::Shear && !c.axial_strain.empty())
+            it->max_axial_strain = std::max(it->max_axial_strain, *std::max_element(c.axial_strain.begin(), c.axial_strain.end()));
         if (c.kind != CurveKind::Creep || c.stage < 1) continue;
         it->creep = true;
         creep_in_lab_ = true;
@@ -60,8 +86,12 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     }
     if (conditions_.empty())
         conditions_.push_back({base_.loading.confining_pressure_pa, false, base_.loading.stress_levels,
-                               base_.loading.stage_durations_s});
+                               base_.loading.stage_durations_s, 0.0});
     for (auto& k : conditions_) {
+        // The shear runs 2 % past the lab's last reading (at least 0.5 % strain); a creep test
+        // needs its q_f, so the shear then keeps the scheme's end.
+        k.max_axial_strain = k.max_axial_strain > 0.0 ? std::clamp(1.02 * k.max_axial_strain, 0.005, 0.4)
+                                                      : base_.loading.max_axial_strain;
         // Stages run in order on one specimen: keep only as many as the lab reports.
         int last_stage = 0;
         for (const auto& c : lab.curves)
@@ -75,40 +105,61 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
 }
 
 bool DemForwardModel::includes(Effect e) const {
-    const auto& fx = base_.effects;
+    // Only the artefacts and moisture bonding can be in the base: the others were taken out.
     switch (e) {
-        case Effect::RollingResistance: return fx.rolling_resistance || base_.micro.rolling_friction > 0.0;
-        // Crushable grains in the scheme (the paper-group presets): breakage is part of the
-        // base model there.
-        case Effect::BondDegradation: return base_.micro.crushing_strength_pa > 0.0;
-        case Effect::ContactCreepViscosity: return fx.contact_creep_viscosity;
-        case Effect::MoistureBonding: return fx.moisture_bonding;
-        case Effect::SeatingError: return fx.seating_error;
-        case Effect::MembraneCompliance: return fx.membrane_compliance;
+        case Effect::MoistureBonding: return true;
+        default: return false;
     }
-    return false;
+}
+
+std::string DemForwardModel::not_offered_reason(Effect e) const {
+    switch (e) {
+        case Effect::MoistureBonding:
+            return "the base calibrates the bond strength from 0 (cohesionless) upwards, which is what moisture "
+                   "bonding would add";
+        case Effect::ContactCreepViscosity:
+            return creep_in_lab_ ? std::string{} : "no creep curve in the data: time-dependent slip cannot be seen";
+        default: return {};
+    }
+}
+
+std::vector<HeldParameter> DemForwardModel::held_fixed() const {
+    const auto& m = scheme_.micro;
+    std::vector<HeldParameter> h{
+        {"shear_to_normal_modulus_ratio", "-", m.shear_modulus_pa / m.normal_modulus_pa, "the scheme's ratio (E_s / E_n)"},
+        {"target_porosity", "-", scheme_.specimen.target_porosity, "the specimen's density as the scheme gives it"},
+        {"local_damping", "-", m.local_damping, "quasi-static runs: damping does not set the response"},
+        {"wall_friction", "-", m.wall_friction, "rough platens"},
+        {"membrane_stiffness", "N/m", m.membrane_stiffness_n_m, "the DEM membrane (lab membrane effects are the artefact)"},
+        {"bond_friction", "-", m.bond_friction, "the bonds' Mohr-Coulomb friction (strength is calibrated)"},
+        {"max_particles", "-", static_cast<double>(base_.max_particles), "the calibration specimen's grain cap (0: the scheme's gradation)"},
+    };
+    if (m.bond_rolling_friction > 0.0)
+        h.push_back({"bond_rolling_friction", "-", 0.0,
+                     "the scheme's cement neck (" + std::to_string(m.bond_rolling_friction) +
+                         ") is off in the base: rolling resistance is tested as an effect"});
+    if (m.crushing_strength_pa > 0.0)
+        h.push_back({"crushing_strength", "Pa", 0.0,
+                     "the scheme's crushable grains (" + std::to_string(m.crushing_strength_pa / 1e6) +
+                         " MPa) are off in the base: grain breakage is tested as an effect"});
+    if (creep_in_lab_) {
+        h.push_back({"slip_beta", "-", scheme_.creep.slip_beta, "the creep law's shape; the creep effect scales its rate"});
+        h.push_back({"slip_hardening_length", "m", scheme_.creep.slip_hardening_length_m, "the creep law's capacity"});
+        h.push_back({"damage_rate_b1", "1/s", scheme_.creep.damage_rate_b1_per_s, "the bonds' stress corrosion rate"});
+    }
+    return h;
 }
 
 std::vector<ParameterSpec> DemForwardModel::base_parameters() const {
-    const auto& m = base_.micro;
-    std::vector<ParameterSpec> p{
-        {"contact_normal_modulus", "Pa", 0.2 * m.normal_modulus_pa, 5.0 * m.normal_modulus_pa, m.normal_modulus_pa, true},
-        // Physical prior: inter-particle friction of mineral grains is about 0.1-0.7 (quartz
-        // ~0.5 wet to ~0.7 rough); beyond it a fit is mimicking shape/interlocking with
-        // friction (measured: the base fit ran to mu = 0.94 on data with hidden rolling
-        // resistance, docs/diagnosis.md), which hides the effect the loop must find.
-        {"friction", "-", 0.1, 0.7, std::clamp(m.friction, 0.1, 0.7), false}};
-    if (bonded_)
-        // Prior: within a factor 3 of the scheme's moisture relation either way (the
-        // relation itself spans x0.62..x1 over the paper's moisture range). Wider, the base
-        // fit mimics hidden rolling resistance with cementation: measured at 100 kPa on the
-        // CI specimen, bonds x10 raise q at 0.5 % strain from 152 to 300 kPa, as much as
-        // mu_r 0.25 does (x3: 186 kPa); the fit ran to x12 at 0.05..20 and to the bound at
-        // 0.1..10 (docs/diagnosis.md section 8). A bound reached is stated in the verdict.
-        p.push_back({"bond_strength_scale", "-", 1.0 / 3.0, 3.0, 1.0, true});
-    if (base_.effects.contact_creep_viscosity && creep_in_lab_)
-        p.push_back({"creep_slip_rate_scale", "-", 0.01, 100.0, 1.0, true});
-    return p;
+    const auto& m = scheme_.micro;
+    return {
+        // Two decades around the scheme's modulus: a fill's small-strain stiffness spans that.
+        {"contact_normal_modulus", "Pa", 0.1 * m.normal_modulus_pa, 10.0 * m.normal_modulus_pa, m.normal_modulus_pa, true},
+        // Friction of mineral contacts and of rough, angular grains that a sphere must mimic.
+        {"friction", "-", 0.05, 1.0, std::clamp(m.friction, 0.05, 1.0), false},
+        // Cohesion from cementation or suction: from none up.
+        {"bond_strength", "Pa", 0.0, bond_strength_max_pa_, bond_strength_nominal_pa_, false, true},
+    };
 }
 
 std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
@@ -117,17 +168,16 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
         case Effect::RollingResistance: return {{"rolling_friction", "-", 0.0, 0.5, 0.1, false, true}};
         case Effect::BondDegradation: {
             // Grain crushing (engine/contact/grain_crushing.hpp) as a crushability
-            // x = sigma_ref / sigma0 (sigma_ref = 0.6 MPa, the presets' grain of sessions 8-11): 0 = unbreakable
-            // grains (the model without the effect, so base runs seed the fit), 1 = the
-            // presets' slaking-mudstone grains, 2 = sigma0 0.3 MPa. Linear in x: a grain's
-            // crushing force is proportional to 1/x. It acts in shear (contraction growing
-            // with sigma3) and in the creep holds (creep slip shifts load onto crushable
-            // contacts). Measured on the reduced specimens: docs/diagnosis.md section 8.7.
+            // x = sigma_ref / sigma0 (sigma_ref = 0.6 MPa): 0 = unbreakable grains (the
+            // model without the effect, so base runs seed the fit), 2 = sigma0 0.3 MPa.
+            // Linear in x: a grain's crushing force is proportional to 1/x. It acts in shear
+            // (contraction growing with sigma3) and in the creep holds (creep slip shifts
+            // load onto crushable contacts).
             std::vector<ParameterSpec> p{{"grain_crushability", "-", 0.0, kCrushabilityMax, 1.0, false, true}};
             // Bond damage under load (stress corrosion of the bonds in the creep holds,
             // breakage_damage_scale = 1 + extra): only creep curves of a bonded specimen
             // can see it; off at 0 as well.
-            if (creep_in_lab_ && bonded_ && !base_.effects.grain_breakage)
+            if (creep_in_lab_)
                 p.push_back({"extra_bond_damage_rate", "-", 0.0, 9.0, 1.0, false, true});
             return p;
         }
@@ -135,7 +185,6 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
             // Without lab creep curves the mechanism cannot be seen: do not propose it.
             if (!creep_in_lab_) return {};
             return {{"viscosity_scale", "-", 0.01, 100.0, 1.0, true}};
-        case Effect::MoistureBonding: return {{"moisture_bond_strength_scale", "-", 0.05, 20.0, 1.0, true}};
         default: return {};
     }
 }
@@ -151,12 +200,7 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
     s.micro.normal_modulus_pa = point.base[at++];
     s.micro.shear_modulus_pa = ratio * s.micro.normal_modulus_pa;
     s.micro.friction = point.base[at++];
-    if (bonded_) {
-        const double k = point.base[at++];
-        s.micro.bond_normal_strength_pa *= k;
-        s.micro.bond_shear_strength_pa *= k;
-    }
-    if (base_.effects.contact_creep_viscosity && creep_in_lab_) s.creep.slip_rate_a_m_s *= point.base[at++];
+    s.micro.bond_normal_strength_pa = s.micro.bond_shear_strength_pa = std::max(0.0, point.base[at++]);
     for (const auto& [e, v] : point.effects) {
         if (v.empty()) throw std::invalid_argument("effect '" + std::string(effect_name(e)) + "' given no parameter");
         switch (e) {
@@ -177,11 +221,6 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
                 s.effects.contact_creep_viscosity = true;
                 s.effects.viscosity_scale = v[0];
                 break;
-            case Effect::MoistureBonding:
-                s.effects.moisture_bonding = true;
-                s.micro.bond_normal_strength_pa *= v[0];
-                s.micro.bond_shear_strength_pa *= v[0];
-                break;
             default:
                 throw std::invalid_argument("DEM forward model: '" + std::string(effect_name(e)) +
                                             "' is a test artefact, applied by the diagnosis");
@@ -200,6 +239,9 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
         if (k.creep) {
             s.loading.stress_levels = k.stress_levels;
             s.loading.stage_durations_s = k.durations_s;
+        } else {
+            s.loading.max_axial_strain = k.max_axial_strain;
+            s.loading.stop_at_softening = false;
         }
         CancelOnly observer(cancel_);
         const auto r = protocol::run_triaxial_test(s, observer, k.creep ? protocol::Phase::Creep : protocol::Phase::Shear);
@@ -243,8 +285,14 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
 // Product entry point (declared in diagnosis.hpp).
 DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base, const DiagnoseOptions& options,
                               DiagnoseObserver& observer) {
+    ThreadSimulationBatch batch(options.concurrency);
+    return run_diagnosis(lab, base, options, observer, batch);
+}
+
+DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base, const DiagnoseOptions& options,
+                              DiagnoseObserver& observer, SimulationBatch& batch) {
     const DemForwardModel model(base, lab, options.threads_per_run, options.max_particles, &observer);
-    return run_diagnosis(lab, model, options, observer);
+    return run_diagnosis(lab, model, options, observer, batch);
 }
 
 }  // namespace triax::diagnose

@@ -2,27 +2,33 @@
 // The product's forward model: the DEM triaxial protocol (engine/protocol) run at the lab
 // dataset's conditions. One simulate() = one run of run_triaxial_test per confining
 // pressure in the lab data (shear only if the lab has no creep curve at that pressure),
-// with creep stress levels and stage durations taken from the lab's creep curves.
+// with creep stress levels and stage durations taken from the lab's creep curves. Every
+// shear runs to the lab's last reading at that pressure (2 % beyond it) with no softening
+// stop, so the model's curve covers the lab's range whatever the material does.
 //
-// Base parameters (calibrated in every model):
-//   contact normal modulus E_n (log, 0.2x..5x the scheme's; E_s keeps the scheme's ratio),
-//   particle friction mu (0.1..0.7: a physical prior, see base_parameters()),
-//   contact bond strength (log, x1/3..x3; normal and shear scaled together) if the
-//     scheme's specimen carries bonds,
-//   creep slip-rate scale A (log, 0.01x..100x) when the creep law is on and the lab
-//     has creep curves (otherwise the creep curves cannot inform it).
-// Effects already switched on in the scheme are part of the base model and are not
-// proposed; the others map to TestEffects:
-//   rolling_resistance      -> rolling_friction mu_r (0..0.5)
+// The base model is the scheme with every catalog effect taken out, so that each can be
+// tested against it (a base that already resists rolling through its bonds' cement neck
+// cannot be told it lacks rolling resistance):
+//   rolling resistance off (micro.rolling_friction 0, the bonds' neck
+//     micro.bond_rolling_friction 0), grain crushing off, extra bond damage off, the creep
+//     law off (the creep effect switches it on), seating and membrane artefacts off.
+// Base parameters (calibrated in every model), over ranges wide enough for real fills:
+//   contact normal modulus E_n (log, 0.1x..10x the scheme's; E_s keeps the scheme's ratio),
+//   particle friction mu (0.05..1),
+//   contact bond strength (normal = shear, Pa, linear from 0 = cohesionless to
+//     max(3x the scheme's, 300 kPa)); its nominal is 0 unless the lab's peak strengths
+//     carry a cohesion intercept (lab_macro.hpp).
+// Everything else the scheme sets is held at the scheme's value and listed by held_fixed().
+// Effects and their parameters:
+//   rolling_resistance      -> rolling_friction mu_r (0..0.5, 0 = off)
 //   bond_degradation        -> grain crushing: crushability x = 0.6 MPa / sigma0 (0..2, 0 =
-//                              unbreakable), micro.crushing_strength_pa = 0.6 MPa / x; with
-//                              creep curves of a bonded specimen also extra bond damage e
-//                              (0..9): effects.grain_breakage, breakage_damage_scale 1 + e
-//   contact_creep_viscosity -> contact_creep_viscosity, viscosity_scale (log 0.01..100)
-//   moisture_bonding        -> moisture_bonding; one parameter: bond strength scale at the
-//                              scheme's moisture (log 0.05..20)
-// Every run uses the scheme's seed (common random numbers: the same specimen for every
-// parameter set, so differences between runs are the parameters', not the packing's).
+//                              unbreakable); with creep curves of a bonded specimen also extra
+//                              bond damage e (0..9): effects.grain_breakage, scale 1 + e
+//   contact_creep_viscosity -> the creep law on, its rate scaled (log 0.01..100); offered
+//                              only with creep curves
+//   moisture_bonding        -> not offered: the base calibrates the bond strength from 0
+// Every run uses the given seed (common random numbers: the same packing for every parameter
+// set, so differences between runs are the parameters', not the packing's).
 #include "engine/diagnose/forward_model.hpp"
 #include "engine/protocol/test_scheme.hpp"
 
@@ -31,8 +37,7 @@ namespace triax::diagnose {
 class DiagnoseObserver;
 
 // Grain crushability x = kCrushabilityReferencePa / crushing strength: x = 1 is a grain of
-// 0.6 MPa (the presets' grain of sessions 8-11, on which the diagnosis was calibrated),
-// x = kCrushabilityMax (0.3 MPa) the weakest tried.
+// 0.6 MPa, x = kCrushabilityMax (0.3 MPa) the weakest offered.
 inline constexpr double kCrushabilityReferencePa = 0.6e6;
 inline constexpr double kCrushabilityMax = 2.0;
 
@@ -47,6 +52,8 @@ public:
     std::vector<ParameterSpec> base_parameters() const override;
     std::vector<ParameterSpec> effect_parameters(Effect e) const override;
     bool includes(Effect e) const override;
+    std::string not_offered_reason(Effect e) const override;
+    std::vector<HeldParameter> held_fixed() const override;
     LabDataset simulate(const ModelPoint& point, std::uint64_t seed) const override;
 
     // The scheme a model point runs at one confining pressure (exposed for tests and for
@@ -59,12 +66,15 @@ private:
         bool creep = false;
         std::vector<double> stress_levels;
         std::vector<double> durations_s;
+        double max_axial_strain = 0.0;  // shear to 2 % past the lab's last reading
     };
-    protocol::TestScheme base_;
+    protocol::TestScheme scheme_;  // as given
+    protocol::TestScheme base_;    // the scheme without the catalog's effects
     const DiagnoseObserver* cancel_ = nullptr;
     std::vector<Condition> conditions_;
     bool creep_in_lab_ = false;
-    bool bonded_ = false;
+    double bond_strength_max_pa_ = 0.0;
+    double bond_strength_nominal_pa_ = 0.0;
 };
 
 }  // namespace triax::diagnose

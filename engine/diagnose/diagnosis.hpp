@@ -1,8 +1,12 @@
 #pragma once
-// Closing the loop: calibrate the base model to lab readings, split the residual by curve
-// and phase, rank the catalog's effects by how well their signature matches the residual,
-// fit the best candidates as augmented models and keep one only if it earns its parameters
-// by BIC with an effective number of readings. Algorithm and budget: docs/diagnosis.md.
+// Closing the loop: calibrate the base model to lab readings, measure what a change of
+// packing gives (the noise floor), split the residual by curve and phase, rank the catalog's
+// effects by how well their signature matches the residual, fit the best candidates as
+// augmented models and keep one only if it earns its parameters by BIC with an effective
+// number of readings and gains more than the noise floor; call what remains above the
+// tolerance of a right model "unexplained". Algorithm and budget: docs/diagnosis.md.
+// The engine returns data; the sentence a user reads is written at the edge
+// (server/io/diagnosis_verdict).
 #include <cstddef>
 #include <cstdint>
 #include <exception>
@@ -13,6 +17,7 @@
 #include "engine/diagnose/effect.hpp"
 #include "engine/diagnose/forward_model.hpp"
 #include "engine/diagnose/lab_data.hpp"
+#include "engine/diagnose/noise_floor.hpp"
 
 namespace triax::protocol {
 struct TestScheme;
@@ -29,6 +34,9 @@ struct DiagnoseOptions {
     int threads_per_run = 1;       // OpenMP threads inside one DEM run
     int max_particles = 0;         // DEM: cap on soil particles per run (0 = the scheme's)
     std::uint64_t seed = 1;
+    // Packings the calibrated base model is run on to measure the noise floor (the
+    // calibration's own counts as one; 1 = not measured, every gain is taken at face value).
+    int noise_seeds = 3;
     double bic_threshold = 10.0;   // an effect is kept only if it lowers BIC by more than this
     // Uncertainties from a forward-difference Jacobian at the optimum (k extra runs per
     // reported model); false: from the local regression over the runs already made
@@ -49,7 +57,8 @@ struct PhaseError {
     std::string phase;   // "all", "pre_peak", "post_peak", "contraction", "dilation",
                          // "instant", "primary", "steady", "tertiary"
     std::string unit;    // "Pa" or "-"
-    std::size_t n = 0;
+    std::size_t n = 0;            // readings the model reached
+    std::size_t n_unreached = 0;  // readings beyond the model curve's range (not in rmse)
     double rmse = 0.0;
     double nrmse = 0.0;  // rmse / range of the lab curve (whole curve, so phases add up)
 };
@@ -82,8 +91,41 @@ struct SelectionStep {
     double n_effective = 0.0;
 };
 
+// Why a catalog effect was not tested.
+struct NotTestable {
+    std::string effect;
+    std::string reason;
+};
+
+// A base parameter that ended at the edge of its prior.
+struct BoundHit {
+    std::string name;
+    std::string unit;
+    double value = 0.0;
+    bool upper = false;
+};
+
+// The outcome a user acts on:
+//   effect_found      effects were named and the final model fits within the tolerance;
+//   no_effect_needed  the calibrated base model fits within the tolerance, no effect earns
+//                     its parameters beyond the noise floor;
+//   unexplained       what remains is above kUnexplainedFactor x tolerance (pooled, or in one
+//                     curve phase) whatever the catalog adds; effects that helped are still
+//                     listed in `effects`.
+enum class Outcome { EffectFound, NoEffectNeeded, Unexplained };
+std::string_view outcome_name(Outcome o);
+
+// A residual is unexplained above this multiple of the noise floor's tolerance, and never
+// below kUnexplainedFloor of a lab curve's range (a right model on another packing of a real
+// material is not expected closer than that: docs/diagnosis.md).
+inline constexpr double kUnexplainedFactor = 3.0;
+inline constexpr double kUnexplainedFloor = 0.10;
+
 struct DiagnosisReport {
-    std::string chosen_effect = "unexplained";  // effect name or "unexplained"
+    Outcome outcome = Outcome::Unexplained;
+    // Headline: the first physical effect kept, else the first artefact named, else "none"
+    // (no_effect_needed) or "unexplained".
+    std::string chosen_effect = "unexplained";
     std::vector<std::string> effects;           // every effect kept (stepwise order)
     std::vector<FittedParameter> parameters;    // final model: base then effect parameters
     std::vector<FittedParameter> base_parameters;  // calibrated base model alone
@@ -95,10 +137,23 @@ struct DiagnosisReport {
     std::vector<SelectionStep> steps;
     double n_readings = 0.0;
     double n_effective = 0.0;
-    double nrmse_before = 0.0;                  // pooled over all curves
+    double nrmse_before = 0.0;                  // pooled over the readings the model reached
     double nrmse_after = 0.0;
+    std::size_t unreached_before = 0;           // readings the model did not reach (not in NRMSE)
+    std::size_t unreached_after = 0;
+    NoiseFloor noise;                           // packing scatter, lab noise, tolerance
+    PhaseError worst_remaining;                 // the final model's largest phase error
+    std::vector<HeldParameter> held_fixed;      // settings the fit took as given
+    std::vector<NotTestable> not_testable;      // catalog effects not tried, with the reason
+    std::vector<BoundHit> at_bounds;            // base parameters at the edge of their prior
+    std::vector<std::string> artefacts_below_threshold;  // kept as corrections, not named
+    std::vector<std::string> artefacts_dropped;          // did not lower BIC
+    LabDataset base_curves;                     // calibrated base model at the lab's conditions
+    LabDataset final_curves;                    // final model (artefacts applied)
     int runs_used = 0;
-    std::string verdict;
+    int failed_runs = 0;                        // points whose run and its retry both failed
+    int retried_runs = 0;                       // runs that failed once and were run again
+    std::vector<std::string> failure_messages;  // the engine's messages (first few, distinct)
 };
 
 // Observer: progress, candidate events and cancellation. on_progress and on_candidate are
@@ -117,9 +172,24 @@ struct DiagnosisCancelled : std::exception {
     const char* what() const noexcept override { return "diagnosis cancelled"; }
 };
 
+class SimulationBatch;
+
 // Core loop on any forward model. Throws std::invalid_argument on unusable lab data.
+// The forward runs go through `batch` (threads, or MPI ranks); without it, through
+// options.concurrency threads.
 DiagnosisReport run_diagnosis(const LabDataset& lab, const ForwardModel& model,
                               const DiagnoseOptions& options, DiagnoseObserver& observer);
+DiagnosisReport run_diagnosis(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& options,
+                              DiagnoseObserver& observer, SimulationBatch& batch);
+
+// What a diagnosis will cost before it starts: model runs at most (design, refinement,
+// candidates, noise floor, uncertainty) and engine runs per model run (one per confining
+// pressure).
+struct DiagnosisPlan {
+    int model_runs = 0;
+    int engine_runs_per_model_run = 1;
+};
+DiagnosisPlan plan_diagnosis(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& options);
 
 // Step 2 alone, without calibration: the catalog ranked by signature score at the given
 // base parameter values (SI, ordered as model.base_parameters()). Costs 1 + k + (number of
@@ -132,5 +202,7 @@ std::vector<CandidateResult> rank_effects(const LabDataset& lab, const ForwardMo
 // The product entry point: the forward model is the DEM triaxial protocol built on `base`.
 DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base,
                               const DiagnoseOptions& options, DiagnoseObserver& observer);
+DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base, const DiagnoseOptions& options,
+                              DiagnoseObserver& observer, SimulationBatch& batch);
 
 }  // namespace triax::diagnose

@@ -5,6 +5,7 @@
 // cheap analytic one. simulate() must be deterministic for a given seed and callable from
 // several threads at once (the diagnosis runs evaluations concurrently).
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -20,6 +21,15 @@ struct ModelPoint {
     std::vector<std::pair<Effect, std::vector<double>>> effects;
 };
 
+// A setting of the model that the calibration does not fit (it stays at the scheme's value),
+// named in the report so that a user knows what the fit took as given.
+struct HeldParameter {
+    std::string name;   // e.g. "local_damping"
+    std::string unit;   // SI
+    double value = 0.0;
+    std::string why;    // one phrase
+};
+
 class ForwardModel {
 public:
     virtual ~ForwardModel() = default;
@@ -30,6 +40,11 @@ public:
     virtual std::vector<ParameterSpec> effect_parameters(Effect e) const = 0;
     // Effects the model already contains (switched on in its scheme): not proposed again.
     virtual bool includes(Effect) const { return false; }
+    // Why effect e is not offered on these data (it is part of the base, or the data cannot
+    // show it): one phrase for the report; empty when it is offered.
+    virtual std::string not_offered_reason(Effect) const { return {}; }
+    // Settings the calibration holds at the scheme's values.
+    virtual std::vector<HeldParameter> held_fixed() const { return {}; }
     // Predicted curves, one per lab curve it can reproduce, identified by (kind, stage,
     // confining_pa) like the lab's. Shear curves: axial_strain, deviator_pa,
     // volumetric_strain. Creep curves: time_s, axial_strain (and axial_deformation_m).

@@ -180,16 +180,22 @@ std::vector<PhaseError> phase_errors(const std::vector<ResidualSeries>& layout, 
         const auto& s = layout[k];
         auto add = [&](const std::string& phase) {
             double ss = 0.0;
-            std::size_t n = 0;
+            std::size_t n = 0, unreached = 0;
             for (std::size_t i = 0; i < s.x.size(); ++i)
                 if (phase == "all" || s.phase[i] == phase) {
                     const double r = residual[ranges[k].first + i];
+                    // Exactly 1.0 is the penalty of a reading the model did not reach: it
+                    // is counted apart, not as misfit.
+                    if (r == 1.0) {
+                        ++unreached;
+                        continue;
+                    }
                     ss += r * r;
                     ++n;
                 }
-            if (n == 0) return;
-            const double nrmse = std::sqrt(ss / static_cast<double>(n));
-            out.push_back({s.label, phase, s.unit, n, nrmse * s.scale, nrmse});
+            if (n + unreached == 0) return;
+            const double nrmse = n ? std::sqrt(ss / static_cast<double>(n)) : 0.0;
+            out.push_back({s.label, phase, s.unit, n, unreached, nrmse * s.scale, nrmse});
         };
         add("all");
         for (const char* p : kOrder) add(p);

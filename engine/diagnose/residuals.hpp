@@ -44,7 +44,8 @@ std::vector<ResidualSeries> residual_layout(const LabDataset& lab);
 std::vector<double> normalised_residual(const std::vector<ResidualSeries>& layout, const LabDataset& predicted,
                                         std::vector<std::vector<double>>* model_values = nullptr);
 
-// RMSE / NRMSE per series ("all") and per phase, from a stacked normalised residual.
+// RMSE / NRMSE per series ("all") and per phase, from a stacked normalised residual, over
+// the readings the model reached; the others are counted in n_unreached.
 std::vector<PhaseError> phase_errors(const std::vector<ResidualSeries>& layout, const std::vector<double>& residual);
 
 // Index range [begin, end) of each series in the stacked vector.

@@ -1,6 +1,8 @@
 // DiagnosisReport <-> JSON in lab units (see diagnosis_json.hpp).
 #include "server/io/diagnosis_json.hpp"
 
+#include "server/io/diagnosis_verdict.hpp"
+
 namespace triax::io {
 
 using nlohmann::json;
@@ -28,8 +30,8 @@ json errors_to_json(const std::vector<PhaseError>& errors) {
     json a = json::array();
     for (const auto& e : errors) {
         const auto u = lab_unit(e.unit);
-        a.push_back({{"curve", e.curve}, {"phase", e.phase}, {"n", e.n}, {"rmse", e.rmse * u.factor},
-                     {"unit", u.name}, {"nrmse", e.nrmse}});
+        a.push_back({{"curve", e.curve}, {"phase", e.phase}, {"n", e.n}, {"n_unreached", e.n_unreached},
+                     {"rmse", e.rmse * u.factor}, {"unit", u.name}, {"nrmse", e.nrmse}});
     }
     return a;
 }
@@ -40,7 +42,8 @@ std::vector<PhaseError> errors_from_json(const json& a) {
         double f = 1.0;
         const std::string unit = si_unit(e.at("unit").get<std::string>(), f);
         out.push_back({e.at("curve").get<std::string>(), e.at("phase").get<std::string>(), unit,
-                       e.at("n").get<std::size_t>(), e.at("rmse").get<double>() * f, e.at("nrmse").get<double>()});
+                       e.at("n").get<std::size_t>(), e.value("n_unreached", std::size_t{0}), e.at("rmse").get<double>() * f,
+                       e.at("nrmse").get<double>()});
     }
     return out;
 }
@@ -57,6 +60,52 @@ std::vector<FittedParameter> parameters_from_json(const json& a) {
         out.push_back({p.at("name").get<std::string>(), p.value("unit", std::string{}), p.at("value").get<double>(),
                        p.value("std", 0.0)});
     return out;
+}
+
+json scaled(const std::vector<double>& v, double f) {
+    json a = json::array();
+    for (double x : v) a.push_back(x * f);
+    return a;
+}
+
+std::vector<double> unscaled(const json& a, double f) {
+    std::vector<double> v;
+    for (const auto& x : a) v.push_back(x.get<double>() / f);
+    return v;
+}
+
+// Model curves in lab units (kPa, %, mm, min), compression positive.
+json curves_to_json(const LabDataset& d) {
+    json a = json::array();
+    for (const auto& c : d.curves) {
+        json j{{"kind", c.kind == CurveKind::Shear ? "shear" : "creep"}, {"stage", c.stage},
+               {"confining_kPa", c.confining_pa * 1e-3}, {"stress_level", c.stress_level}};
+        if (!c.axial_strain.empty()) j["axial_strain_pct"] = scaled(c.axial_strain, 100.0);
+        if (!c.deviator_pa.empty()) j["deviator_kPa"] = scaled(c.deviator_pa, 1e-3);
+        if (!c.volumetric_strain.empty()) j["volumetric_strain_pct"] = scaled(c.volumetric_strain, 100.0);
+        if (!c.time_s.empty()) j["time_min"] = scaled(c.time_s, 1.0 / 60.0);
+        if (!c.axial_deformation_m.empty()) j["axial_deformation_mm"] = scaled(c.axial_deformation_m, 1e3);
+        a.push_back(std::move(j));
+    }
+    return a;
+}
+
+LabDataset curves_from_json(const json& a) {
+    LabDataset d;
+    for (const auto& j : a) {
+        LabCurve c;
+        c.kind = j.value("kind", std::string{"shear"}) == "creep" ? CurveKind::Creep : CurveKind::Shear;
+        c.stage = j.value("stage", 0);
+        c.confining_pa = j.value("confining_kPa", 0.0) * 1e3;
+        c.stress_level = j.value("stress_level", 0.0);
+        if (j.contains("axial_strain_pct")) c.axial_strain = unscaled(j["axial_strain_pct"], 100.0);
+        if (j.contains("deviator_kPa")) c.deviator_pa = unscaled(j["deviator_kPa"], 1e-3);
+        if (j.contains("volumetric_strain_pct")) c.volumetric_strain = unscaled(j["volumetric_strain_pct"], 100.0);
+        if (j.contains("time_min")) c.time_s = unscaled(j["time_min"], 1.0 / 60.0);
+        if (j.contains("axial_deformation_mm")) c.axial_deformation_m = unscaled(j["axial_deformation_mm"], 1e3);
+        d.curves.push_back(std::move(c));
+    }
+    return d;
 }
 
 template <typename T>
@@ -110,7 +159,18 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
     for (const auto& s : r.steps)
         steps.push_back({{"step", s.step}, {"added", s.added}, {"nrmse_before", s.nrmse_before},
                          {"nrmse_after", s.nrmse_after}, {"delta_bic", s.delta_bic}, {"n_effective", s.n_effective}});
-    return {{"chosen_effect", r.chosen_effect},
+    json held = json::array();
+    for (const auto& h : r.held_fixed) held.push_back({{"name", h.name}, {"unit", h.unit}, {"value", h.value}, {"why", h.why}});
+    json untested = json::array();
+    for (const auto& t : r.not_testable) untested.push_back({{"effect", t.effect}, {"reason", t.reason}});
+    json bounds = json::array();
+    for (const auto& b : r.at_bounds)
+        bounds.push_back({{"name", b.name}, {"unit", b.unit}, {"value", b.value}, {"bound", b.upper ? "upper" : "lower"}});
+    json per_curve = json::object();
+    for (const auto& [label, v] : r.noise.model_nrmse_per_curve) per_curve[label] = v;
+    const auto worst = errors_to_json({r.worst_remaining});
+    return {{"outcome", std::string(outcome_name(r.outcome))},
+            {"chosen_effect", r.chosen_effect},
             {"effects", r.effects},
             {"parameters", parameters_to_json(r.parameters)},
             {"base_parameters", parameters_to_json(r.base_parameters)},
@@ -123,12 +183,34 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
             {"steps", steps},
             {"n_readings", r.n_readings},
             {"n_effective", r.n_effective},
+            {"unreached_before", r.unreached_before},
+            {"unreached_after", r.unreached_after},
+            {"noise_floor", {{"seeds", r.noise.seeds},
+                             {"model_nrmse", r.noise.model_nrmse},
+                             {"lab_nrmse", r.noise.lab_nrmse},
+                             {"tolerance_nrmse", r.noise.tolerance_nrmse},
+                             {"model_nrmse_per_curve", per_curve}}},
+            {"worst_remaining", r.worst_remaining.curve.empty() ? json(nullptr) : worst[0]},
+            {"held_fixed", held},
+            {"not_testable", untested},
+            {"at_bounds", bounds},
+            {"artefacts_below_threshold", r.artefacts_below_threshold},
+            {"artefacts_dropped", r.artefacts_dropped},
+            {"base_curves", curves_to_json(r.base_curves)},
+            {"final_curves", curves_to_json(r.final_curves)},
             {"runs_used", r.runs_used},
-            {"verdict", r.verdict}};
+            {"failed_runs", r.failed_runs},
+            {"retried_runs", r.retried_runs},
+            {"failure_messages", r.failure_messages},
+            {"verdict", diagnosis_verdict(r)}};
 }
 
 DiagnosisReport diagnosis_report_from_json(const json& j) {
     DiagnosisReport r;
+    const std::string outcome = j.value("outcome", std::string{"unexplained"});
+    r.outcome = outcome == "effect_found" ? Outcome::EffectFound
+                : outcome == "no_effect_needed" ? Outcome::NoEffectNeeded
+                                               : Outcome::Unexplained;
     r.chosen_effect = j.at("chosen_effect").get<std::string>();
     r.effects = j.value("effects", std::vector<std::string>{});
     r.parameters = parameters_from_json(j.at("parameters"));
@@ -161,7 +243,34 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
     r.n_readings = j.value("n_readings", 0.0);
     r.n_effective = j.value("n_effective", 0.0);
     r.runs_used = j.value("runs_used", 0);
-    r.verdict = j.value("verdict", std::string{});
+    r.unreached_before = j.value("unreached_before", std::size_t{0});
+    r.unreached_after = j.value("unreached_after", std::size_t{0});
+    if (j.contains("noise_floor")) {
+        const json& n = j["noise_floor"];
+        r.noise.seeds = n.value("seeds", 0);
+        r.noise.model_nrmse = n.value("model_nrmse", 0.0);
+        r.noise.lab_nrmse = n.value("lab_nrmse", 0.0);
+        r.noise.tolerance_nrmse = n.value("tolerance_nrmse", 0.0);
+        for (const auto& [label, v] : n.value("model_nrmse_per_curve", json::object()).items())
+            r.noise.model_nrmse_per_curve.emplace_back(label, v.get<double>());
+    }
+    if (j.contains("worst_remaining") && j["worst_remaining"].is_object())
+        r.worst_remaining = errors_from_json(json::array({j["worst_remaining"]})).front();
+    for (const auto& h : j.value("held_fixed", json::array()))
+        r.held_fixed.push_back({h.at("name").get<std::string>(), h.value("unit", std::string{}), h.value("value", 0.0),
+                                h.value("why", std::string{})});
+    for (const auto& t : j.value("not_testable", json::array()))
+        r.not_testable.push_back({t.at("effect").get<std::string>(), t.value("reason", std::string{})});
+    for (const auto& b : j.value("at_bounds", json::array()))
+        r.at_bounds.push_back({b.at("name").get<std::string>(), b.value("unit", std::string{}), b.value("value", 0.0),
+                               b.value("bound", std::string{}) == "upper"});
+    r.artefacts_below_threshold = j.value("artefacts_below_threshold", std::vector<std::string>{});
+    r.artefacts_dropped = j.value("artefacts_dropped", std::vector<std::string>{});
+    r.base_curves = curves_from_json(j.value("base_curves", json::array()));
+    r.final_curves = curves_from_json(j.value("final_curves", json::array()));
+    r.failed_runs = j.value("failed_runs", 0);
+    r.retried_runs = j.value("retried_runs", 0);
+    r.failure_messages = j.value("failure_messages", std::vector<std::string>{});
     return r;
 }
 
@@ -177,6 +286,7 @@ DiagnoseOptions diagnose_options_from_json(const json& body) {
     o.threads_per_run = bounded(body, "threads_per_run", 1, 64, o.threads_per_run);
     o.max_particles = bounded(body, "max_particles", 0, 1000000, o.max_particles);
     o.seed = bounded<std::uint64_t>(body, "seed", 0, std::uint64_t{1} << 53, o.seed);
+    o.noise_seeds = bounded(body, "noise_seeds", 1, 16, o.noise_seeds);
     o.bic_threshold = bounded(body, "bic_threshold", 0.0, 1e6, o.bic_threshold);
     o.finite_difference_uncertainty = flag(body, "finite_difference_uncertainty", o.finite_difference_uncertainty);
     return o;
@@ -191,6 +301,7 @@ json diagnose_options_to_json(const DiagnoseOptions& o) {
             {"threads_per_run", o.threads_per_run},
             {"max_particles", o.max_particles},
             {"seed", o.seed},
+            {"noise_seeds", o.noise_seeds},
             {"bic_threshold", o.bic_threshold},
             {"finite_difference_uncertainty", o.finite_difference_uncertainty}};
 }
