@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/diagnose/residuals.hpp"
+
 namespace triax::diagnose {
 
 namespace {

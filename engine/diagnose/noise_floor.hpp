@@ -18,9 +18,9 @@
 #include <utility>
 #include <vector>
 
-#include "engine/diagnose/residuals.hpp"
-
 namespace triax::diagnose {
+
+struct ResidualSeries;  // residuals.hpp
 
 struct NoiseFloor {
     int seeds = 0;                 // packings behind model_nrmse (0: not measured)

@@ -16,6 +16,7 @@
 
 #include "analytic_triaxial_model.hpp"
 #include "engine/diagnose/diagnosis.hpp"
+#include "server/io/diagnosis_verdict.hpp"
 #include "synthetic_lab.hpp"
 
 using namespace triax::diagnose;
@@ -44,7 +45,7 @@ const CandidateResult& candidate(const DiagnosisReport& r, const std::string& ef
 }
 
 std::string describe(const DiagnosisReport& r) {
-    std::string t = r.verdict + "\n";
+    std::string t = triax::io::diagnosis_verdict(r) + "\n";
     for (const auto& c : r.candidates)
         t += "  step " + std::to_string(c.step) + " " + c.effect + " score " + std::to_string(c.signature_score) +
              " dBIC " + std::to_string(c.delta_bic_vs_base) + " " + c.note + "\n";

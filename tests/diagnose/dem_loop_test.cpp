@@ -17,6 +17,7 @@
 
 #include "engine/diagnose/dem_forward_model.hpp"
 #include "engine/diagnose/diagnosis.hpp"
+#include "server/io/diagnosis_verdict.hpp"
 #include "engine/diagnose/model_selection.hpp"
 #include "engine/diagnose/residuals.hpp"
 #include "engine/diagnose/test_artefacts.hpp"
@@ -84,7 +85,7 @@ Case run_case(const CaseSpec& cs) {
 
 std::string describe(const Case& c) {
     const auto& r = c.report;
-    std::string t = r.verdict + "\nwall " + std::to_string(c.seconds) + " s, n_eff " + std::to_string(r.n_effective) +
+    std::string t = triax::io::diagnosis_verdict(r) + "\nwall " + std::to_string(c.seconds) + " s, n_eff " + std::to_string(r.n_effective) +
                     " of " + std::to_string(r.n_readings) + "\n";
     for (const auto& s : r.steps)
         t += "step " + std::to_string(s.step) + " +" + s.added + " nrmse " + std::to_string(s.nrmse_before) + " -> " +
@@ -122,7 +123,8 @@ void check_named(const Case& c, const std::string& effect, const std::string& pa
 
 void check_no_physical_effect(const Case& c) {
     for (const auto& e : c.report.effects) CHECK(is_test_artefact(*effect_from_name(e)));
-    CHECK((c.report.chosen_effect == "unexplained" || c.report.chosen_effect == "seating_error"));
+    CHECK(c.report.outcome != Outcome::Unexplained);
+    CHECK((c.report.chosen_effect == "none" || c.report.chosen_effect == "seating_error"));
 }
 
 double rmse_of(const DiagnosisReport& r, const std::string& curve) {

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "server/io/diagnosis_json.hpp"
+#include "server/io/diagnosis_verdict.hpp"
 
 using namespace triax::diagnose;
 using triax::io::DiagnosisRequestError;
@@ -13,9 +14,9 @@ DiagnosisReport sample_report() {
     r.effects = {"seating_error", "bond_degradation"};
     r.parameters = {{"friction_angle", "deg", 36.0, 0.2}, {"breakage_index", "-", 1.0, 0.05}};
     r.base_parameters = {{"friction_angle", "deg", 34.0, 0.3}};
-    r.error_before = {{"stress_strain@100kPa", "pre_peak", "Pa", 30, 12000.0, 0.05},
-                      {"creep-2@100kPa", "primary", "-", 10, 2e-4, 0.1}};
-    r.error_after = {{"stress_strain@100kPa", "pre_peak", "Pa", 30, 1500.0, 0.006}};
+    r.error_before = {{"stress_strain@100kPa", "pre_peak", "Pa", 30, 2, 12000.0, 0.05},
+                      {"creep-2@100kPa", "primary", "-", 10, 0, 2e-4, 0.1}};
+    r.error_after = {{"stress_strain@100kPa", "pre_peak", "Pa", 30, 0, 1500.0, 0.006}};
     r.delta_bic_vs_base = -300.0;
     r.runners_up = {{"rolling_resistance", 40.0}};
     CandidateResult c;
@@ -32,7 +33,7 @@ DiagnosisReport sample_report() {
     r.nrmse_before = 1.5;
     r.nrmse_after = 0.02;
     r.runs_used = 77;
-    r.verdict = "bond_degradation explains the residual";
+    r.outcome = Outcome::EffectFound;
     return r;
 }
 }  // namespace
@@ -65,7 +66,8 @@ TEST_CASE("report JSON reads back to the same report", "[diagnose][json]") {
     CHECK(r1.steps[1].added == "bond_degradation");
     CHECK(r1.candidates[0].parameters[0].name == "breakage_index");
     CHECK(r1.runs_used == 77);
-    CHECK(r1.verdict == r0.verdict);
+    CHECK(triax::io::diagnosis_verdict(r1) == triax::io::diagnosis_verdict(r0));
+    CHECK(r1.outcome == r0.outcome);
 }
 
 TEST_CASE("diagnose request options are validated with the field named", "[diagnose][json]") {
