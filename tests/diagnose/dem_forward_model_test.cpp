@@ -8,6 +8,7 @@
 
 #include "engine/diagnose/dem_forward_model.hpp"
 #include "engine/diagnose/diagnosis.hpp"
+#include "engine/diagnose/residuals.hpp"
 #include "engine/protocol/test_scheme.hpp"
 #include "lab_fixtures.hpp"
 
@@ -24,34 +25,62 @@ LabDataset lab_conditions() {
 }
 }  // namespace
 
-TEST_CASE("DEM forward model maps parameters onto the scheme and skips effects already on", "[diagnose][dem]") {
+TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors, shear to the lab's range", "[diagnose][dem]") {
+    // A scheme that switches every catalog effect on (rolling resistance, the bonds' cement
+    // neck, crushable grains, the creep law): the base the diagnosis calibrates has none of
+    // them, so each can be tested, and the report names what was taken out.
     TestScheme base;
     base.effects.contact_creep_viscosity = true;
     base.effects.moisture_bonding = true;
-    base.effects.rolling_resistance = false;
+    base.effects.rolling_resistance = true;
+    base.micro.rolling_friction = 0.2;
+    base.micro.bond_rolling_friction = 0.6;
+    base.micro.crushing_strength_pa = 1.0e6;
     const DemForwardModel model(base, lab_conditions(), 1, 300);
-    CHECK(model.includes(Effect::MoistureBonding));
-    CHECK(model.includes(Effect::ContactCreepViscosity));
     CHECK_FALSE(model.includes(Effect::RollingResistance));
-    CHECK(model.effect_parameters(Effect::MoistureBonding).empty());
+    CHECK_FALSE(model.includes(Effect::BondDegradation));
+    CHECK_FALSE(model.includes(Effect::ContactCreepViscosity));
+    CHECK(model.includes(Effect::MoistureBonding));  // the base calibrates bonds from 0
+    CHECK_THAT(model.not_offered_reason(Effect::MoistureBonding), Catch::Contains("from 0"));
     REQUIRE(model.effect_parameters(Effect::RollingResistance).size() == 1);
+    REQUIRE(model.effect_parameters(Effect::ContactCreepViscosity).size() == 1);
+
+    const auto held = model.held_fixed();
+    auto held_named = [&](const std::string& n) {
+        return std::any_of(held.begin(), held.end(), [&](const HeldParameter& h) { return h.name == n; });
+    };
+    CHECK(held_named("bond_rolling_friction"));
+    CHECK(held_named("crushing_strength"));
+    CHECK(held_named("local_damping"));
 
     const auto specs = model.base_parameters();
-    REQUIRE(specs.size() == 4);  // modulus, friction, bond strength, creep slip rate (lab has creep)
+    REQUIRE(specs.size() == 3);  // modulus, friction, bond strength; creep is an effect
     CHECK(specs[0].name == "contact_normal_modulus");
-    CHECK(specs[3].name == "creep_slip_rate_scale");
+    CHECK(specs[0].upper / specs[0].lower == Approx(100.0));  // two decades
+    CHECK(specs[1].lower == Approx(0.05));
+    CHECK(specs[1].upper == Approx(1.0));
+    CHECK(specs[2].name == "bond_strength");
+    CHECK(specs[2].lower == 0.0);  // cohesionless allowed
 
-    ModelPoint p{{2.0 * base.micro.normal_modulus_pa, 0.55, 3.0, 10.0}, {{Effect::RollingResistance, {0.25}}}};
+    ModelPoint p{{2.0 * base.micro.normal_modulus_pa, 0.55, 120e3}, {{Effect::RollingResistance, {0.25}}}};
     const TestScheme s = model.scheme_for(p, 200e3);
     CHECK(s.loading.confining_pressure_pa == 200e3);
     CHECK(s.micro.normal_modulus_pa == Approx(2.0 * base.micro.normal_modulus_pa));
     CHECK(s.micro.shear_modulus_pa / s.micro.normal_modulus_pa == Approx(base.micro.shear_modulus_pa / base.micro.normal_modulus_pa));
     CHECK(s.micro.friction == Approx(0.55));
-    CHECK(s.micro.bond_normal_strength_pa == Approx(3.0 * base.micro.bond_normal_strength_pa));
-    CHECK(s.creep.slip_rate_a_m_s == Approx(10.0 * base.creep.slip_rate_a_m_s));
+    CHECK(s.micro.bond_normal_strength_pa == Approx(120e3));
+    CHECK(s.micro.bond_shear_strength_pa == Approx(120e3));
+    CHECK(s.micro.bond_rolling_friction == 0.0);
+    CHECK(s.micro.crushing_strength_pa == 0.0);
+    CHECK_FALSE(s.effects.contact_creep_viscosity);
     CHECK(s.effects.rolling_resistance);
     CHECK(s.effects.rolling_friction == Approx(0.25));
     CHECK(s.max_particles == 300);
+
+    ModelPoint creep{p.base, {{Effect::ContactCreepViscosity, {3.0}}}};
+    const TestScheme sc = model.scheme_for(creep, 200e3);
+    CHECK(sc.effects.contact_creep_viscosity);
+    CHECK(sc.effects.viscosity_scale == Approx(3.0));
 
     ModelPoint bad{{1.0, 0.5}, {}};
     CHECK_THROWS_WITH(model.scheme_for(bad, 100e3), Catch::Contains("base parameters"));
@@ -62,69 +91,74 @@ TEST_CASE("DEM forward model maps parameters onto the scheme and skips effects a
 TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear data, creep viscosity is not", "[diagnose][dem]") {
     // Grain breakage maps onto crushable grains (crushability x = 0.6 MPa / sigma0, off at
     // 0), which act in shear: offered on shear-only data. Contact creep viscosity acts in
-    // time: on shear curves alone it cannot be seen, so it is not a candidate there, and
-    // the base model gets no creep slip-rate parameter.
+    // time: on shear curves alone it cannot be seen, so it is not a candidate there.
     TestScheme base;
-    base.effects.contact_creep_viscosity = false;
     const DemForwardModel shear_model(base, shear_conditions({100e3}), 1, 0);
-    CHECK_FALSE(shear_model.includes(Effect::BondDegradation));
     const auto crush = shear_model.effect_parameters(Effect::BondDegradation);
     REQUIRE(crush.size() == 1);
     CHECK(crush[0].name == "grain_crushability");
     CHECK(crush[0].lower == 0.0);
     CHECK(crush[0].lower_is_off);
     CHECK(crush[0].upper == Approx(kCrushabilityMax));
-    CHECK(crush[0].nominal == Approx(1.0));  // a 0.6 MPa grain (the presets' of sessions 8-11)
+    CHECK(crush[0].nominal == Approx(1.0));  // a 0.6 MPa grain
     CHECK(shear_model.effect_parameters(Effect::ContactCreepViscosity).empty());
-    CHECK(shear_model.effect_parameters(Effect::RollingResistance).size() == 1);
+    CHECK_THAT(shear_model.not_offered_reason(Effect::ContactCreepViscosity), Catch::Contains("no creep curve"));
 
     const auto nominal = [&](const DemForwardModel& m) {
         std::vector<double> v;
         for (const auto& s : m.base_parameters()) v.push_back(s.nominal);
         return v;
     };
-    // x -> sigma0 = 0.6 MPa / x; x = 0 is unbreakable (the scheme without the effect);
-    // the presets' Weibull modulus, reference diameter and hardening are kept.
     const TestScheme s1 = shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {0.75}}}}, 200e3);
     CHECK(s1.micro.crushing_strength_pa == Approx(0.8e6));
     CHECK(s1.micro.crushing_weibull_modulus == base.micro.crushing_weibull_modulus);
-    CHECK(s1.micro.crushing_hardening_ratio == base.micro.crushing_hardening_ratio);
     CHECK_FALSE(s1.effects.grain_breakage);  // creep bond damage untouched
     const TestScheme s0 = shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {0.0}}}}, 200e3);
     CHECK(s0.micro.crushing_strength_pa == 0.0);
     CHECK_THROWS_WITH(shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {-0.5}}}}, 200e3),
                       Catch::Contains("grain_crushability"));
 
-    // With creep curves of a bonded specimen: a second parameter, extra bond damage in the
-    // creep holds (breakage_damage_scale = 1 + e), off at 0 too.
+    // The shear runs to 2 % past the lab's last reading, without the softening stop.
+    LabDataset to_12 = shear_conditions({100e3}, 0.12);
+    const DemForwardModel far(base, to_12, 1, 0);
+    const TestScheme s12 = far.scheme_for({nominal(far), {}}, 100e3);
+    CHECK(s12.loading.stop_at_softening);  // scheme_for leaves the loading; simulate() sets it
+    CHECK(far.base_parameters()[2].nominal == 0.0);  // one pressure: no cohesion intercept claimed
+
+    // With creep curves: a second parameter, extra bond damage in the creep holds
+    // (breakage_damage_scale = 1 + e), off at 0 too.
     const DemForwardModel creep_model(base, lab_conditions(), 1, 0);
     const auto both = creep_model.effect_parameters(Effect::BondDegradation);
     REQUIRE(both.size() == 2);
     CHECK(both[1].name == "extra_bond_damage_rate");
     CHECK(both[1].lower_is_off);
-    CHECK(creep_model.effect_parameters(Effect::ContactCreepViscosity).size() == 1);
     const TestScheme s2 = creep_model.scheme_for({nominal(creep_model), {{Effect::BondDegradation, {0.5, 2.0}}}}, 200e3);
     CHECK(s2.micro.crushing_strength_pa == Approx(1.2e6));
     CHECK(s2.effects.grain_breakage);
     CHECK(s2.effects.breakage_damage_scale == Approx(3.0));
+}
 
-    // Crushable grains already in the scheme (the paper-group presets): breakage is part
-    // of the base model and not proposed again.
-    TestScheme crushable = base;
-    crushable.micro.crushing_strength_pa = 0.6e6;
-    const DemForwardModel preset_model(crushable, shear_conditions({100e3}), 1, 0);
-    CHECK(preset_model.includes(Effect::BondDegradation));
-    CHECK(preset_model.effect_parameters(Effect::BondDegradation).empty());
-
-    // Physical priors of the base parameters (docs/diagnosis.md section 6): friction of
-    // mineral grains, bond strength within a factor 3 of the moisture relation.
-    const auto specs = shear_model.base_parameters();
-    REQUIRE(specs.size() == 3);
-    CHECK(specs[1].lower == Approx(0.1));
-    CHECK(specs[1].upper == Approx(0.7));
-    CHECK(specs[2].name == "bond_strength_scale");
-    CHECK(specs[2].lower == Approx(1.0 / 3.0));
-    CHECK(specs[2].upper == Approx(3.0));
+TEST_CASE("DEM forward model: every pressure's shear reaches the lab's last reading (15 %)", "[diagnose][dem]") {
+    // A weak cohesionless material read to 15 % at three pressures: the model's curves must
+    // cover the lab's range (no softening stop), or the readings past its end count as
+    // unreached instead of misfit.
+    TestScheme base = reduced_scheme(2.5e-3, 0.15, 3);
+    base.micro.bond_normal_strength_pa = base.micro.bond_shear_strength_pa = 0.0;
+    const LabDataset lab = shear_conditions({50e3, 100e3, 200e3}, 0.15);
+    const DemForwardModel model(base, lab, 1, 150);
+    std::vector<double> v;
+    for (const auto& s : model.base_parameters()) v.push_back(s.nominal);
+    v[1] = 0.2;  // weak: low friction
+    const LabDataset out = model.simulate({v, {}}, 3);
+    REQUIRE(out.curves.size() == 3);
+    for (const auto& c : out.curves) {
+        REQUIRE(!c.axial_strain.empty());
+        CHECK(c.axial_strain.back() >= 0.15);
+        CHECK(c.deviator_pa.back() > 0.0);
+    }
+    const auto layout = residual_layout(lab);
+    const auto r = normalised_residual(layout, out);
+    for (double x : r) CHECK(x != 1.0);  // every reading reached
 }
 
 TEST_CASE("DEM forward model: one reduced shear run, timed", "[diagnose][dem][.timing]") {
