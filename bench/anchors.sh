@@ -17,7 +17,9 @@
 #                           (exported as a LAMMPS data file), walls as wall/gran planes, the
 #                           same law, skin and time step, 1 and 2 ranks: the same packing
 #   YADE                    bench/anchors/yade_dense_box_bench.py: box compacted to 100 kPa, 2 threads
-# Rates are wall-clock (particle-steps per second); "per core" divides by threads/ranks.
+# Rates are wall-clock (particle-steps per second); "per core" divides by threads/ranks;
+# "per CPU-s" divides by the CPU time the run got (engine_bench's getrusage, LAMMPS's
+# "% CPU use"), the figure that still means something when other jobs share the machine.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 N="${1:-10000}"
@@ -45,7 +47,8 @@ fi
 [[ -x "$build/bench/engine_bench" ]] || { echo "anchors.sh: $build/bench/engine_bench not built" >&2; exit 2; }
 
 rows=()
-row() { rows+=("$(printf '| %-34s | %-13s | %10s | %10s | %12s |' "$1" "$2" "$3" "$4" "$5")"); }
+# engine, threads/ranks, particle-steps/s (wall), per core, per CPU-second, coordination
+row() { rows+=("$(printf '| %-34s | %-13s | %10s | %10s | %11s | %12s |' "$1" "$2" "$3" "$4" "$5" "$6")"); }
 per_core() { awk -v r="$1" -v n="$2" 'BEGIN { printf "%.3g", r / n }'; }
 
 # --- triax engine_bench ---------------------------------------------------------------------
@@ -59,13 +62,18 @@ if [[ " $runs " == *" triax "* || " $runs " == *" lammps_triax "* ]]; then
   dt=$(sed -n 's/.*, dt \([0-9.e+-]*\) s,.*/\1/p' "$dir/triax.log")
   for t in 1 2; do
     rate=$(sed -n "s/^threads=$t: .*-> \([0-9.e+]*\) particle-steps\/s;.*/\1/p" "$dir/triax.log")
-    [[ " $runs " == *" triax "* ]] && row "triax engine_bench (box, walls)" "$t thread(s)" "$rate" "$(per_core "$rate" "$t")" "$coord"
+    cpu=$(sed -n "s/^threads=$t: .*-> \([0-9.e+]*\) particle-steps per CPU-second/\1/p" "$dir/triax.log")
+    [[ " $runs " == *" triax "* ]] && row "triax engine_bench (box, walls)" "$t thread(s)" "$rate" "$(per_core "$rate" "$t")" "$cpu" "$coord"
   done
 fi
 
 # --- LAMMPS ----------------------------------------------------------------------------------
 # Loop time of the last run (the timed one) -> N * steps / s; coordination = last thermo row's c_cavg.
 lammps_rate() { awk -v n="$2" '/^Loop time of/ { t = $4; s = $9 } END { printf "%.3g", n * s / t }' "$1"; }
+# Per CPU-second: "X% CPU use with P MPI tasks" (the mean over the tasks) after the timed loop.
+lammps_cpu_rate() {
+  awk -v n="$2" -v np="$3" '/^Loop time of/ { t = $4; s = $9 } /% CPU use with/ { c = $1 + 0 } END { printf "%.3g", n * s / (t * np * c / 100) }' "$1"
+}
 lammps_coord() { awk '/^ *Step +Press +c_cavg/ { on = 1; next } on && /^Loop time/ { on = 0 } on && NF == 4 { c = $3 } END { printf "%.2f", c }' "$1"; }
 run_lammps() {  # label input log-name extra-vars...
   local label="$1" input="$2" name="$3"
@@ -80,7 +88,7 @@ run_lammps() {  # label input log-name extra-vars...
     fi
     local rate
     rate=$(lammps_rate "$log" "$N")
-    row "$label" "$np rank(s)" "$rate" "$(per_core "$rate" "$np")" "$(lammps_coord "$log")"
+    row "$label" "$np rank(s)" "$rate" "$(per_core "$rate" "$np")" "$(lammps_cpu_rate "$log" "$N" "$np")" "$(lammps_coord "$log")"
   done
 }
 if [[ " $runs " == *" lammps "* ]]; then
@@ -96,12 +104,12 @@ if [[ " $runs " == *" yade "* ]]; then
   (cd "$dir" && yade -n -x -j2 "$inputs/yade_dense_box_bench.py" "$N" >"$dir/yade.log" 2>&1) || true
   yrate=$(sed -n 's/.*particle-steps\/s=\([0-9.e+]*\) .*/\1/p' "$dir/yade.log" | tail -1)
   ycoord=$(sed -n 's/.*coord=\([0-9.]*\) .*/\1/p' "$dir/yade.log" | tail -1)
-  row "YADE (box, 100 kPa)" "2 threads" "${yrate:-failed}" "$( [[ -n "$yrate" ]] && per_core "$yrate" 2 || echo -)" "${ycoord:--}"
+  row "YADE (box, 100 kPa)" "2 threads" "${yrate:-failed}" "$( [[ -n "$yrate" ]] && per_core "$yrate" 2 || echo -)" "-" "${ycoord:--}"
 fi
 
 echo
 echo "N = $N spheres, $STEPS timed steps; $(date -u '+%Y-%m-%d %H:%M UTC'), load average $(cut -d' ' -f1-3 /proc/loadavg); logs in $dir"
 echo
-printf '| %-34s | %-13s | %10s | %10s | %12s |\n' "engine" "threads/ranks" "p-steps/s" "per core" "coordination"
-printf '|%s|%s|%s|%s|%s|\n' "------------------------------------" "---------------" "------------" "------------" "--------------"
+printf '| %-34s | %-13s | %10s | %10s | %11s | %12s |\n' "engine" "threads/ranks" "p-steps/s" "per core" "per CPU-s" "coordination"
+printf '|%s|%s|%s|%s|%s|%s|\n' "------------------------------------" "---------------" "------------" "------------" "-------------" "--------------"
 printf '%s\n' "${rows[@]}"
