@@ -95,7 +95,7 @@ if [[ " $runs " == *" lammps "* ]]; then
   run_lammps "LAMMPS periodic (own packing)" "$inputs/lammps_dense_periodic.in" lammps_periodic -var N "$N"
 fi
 if [[ " $runs " == *" lammps_triax "* ]]; then
-  run_lammps "LAMMPS, triax packing (walls)" "$inputs/lammps_triax_packing.in" lammps_triax -var data "$data" -var dt "$dt"
+  run_lammps "LAMMPS, triax packing (walls)" "$inputs/lammps_triax_packing.in" lammps_triax -var data "$data" -var dt "$dt" -var steps "$STEPS"
 fi
 
 # --- YADE ------------------------------------------------------------------------------------
@@ -108,7 +108,7 @@ if [[ " $runs " == *" yade "* ]]; then
 fi
 
 echo
-echo "N = $N spheres, $STEPS timed steps; $(date -u '+%Y-%m-%d %H:%M UTC'), load average $(cut -d' ' -f1-3 /proc/loadavg); logs in $dir"
+echo "N = $N spheres, $STEPS timed steps (LAMMPS periodic and YADE: 5000, as in their inputs); $(date -u '+%Y-%m-%d %H:%M UTC'), load average $(cut -d' ' -f1-3 /proc/loadavg); logs in $dir"
 echo
 printf '| %-34s | %-13s | %10s | %10s | %11s | %12s |\n' "engine" "threads/ranks" "p-steps/s" "per core" "per CPU-s" "coordination"
 printf '|%s|%s|%s|%s|%s|%s|\n' "------------------------------------" "---------------" "------------" "------------" "-------------" "--------------"
