@@ -4,7 +4,17 @@
 // the dense state), switches to mu = 0.4, then times 5,000 steps at 1 and 2 threads
 // (median of several runs) and the time per step at N = 2k, 8k, 32k.
 //
-// Usage: engine_bench [N=10000] [steps=5000] [repeats=3]
+// Usage: engine_bench [N=10000] [steps=5000] [repeats=3] [options]
+//   --packing FILE       reuse the servo-compressed packing stored in FILE (built and
+//                        stored there when FILE does not exist): A/B runs of two builds
+//                        then time the same state without the minutes of preparation
+//   --threads LIST       thread counts to time, e.g. 1 or 2 or 1,2 (default 1,2)
+//   --no-scaling         skip the 2k/8k/32k scaling runs
+//   --lammps-data FILE   write the timed packing as a LAMMPS data file (atom_style sphere,
+//                        box = the six walls) for bench/anchors/lammps_triax_packing.in
+// The packing is the state at the end of the frictionless servo: shear forces are zero
+// there and normal forces follow from the overlaps, so positions, velocities, spins,
+// radii and walls are the whole state.
 #include "engine/core/world.hpp"
 
 #include <algorithm>
@@ -13,6 +23,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
 #include <vector>
 
 #include <sys/resource.h>
@@ -130,6 +143,82 @@ void servo_to(World& w, double target, int max_rounds) {
     for (int k = 0; k < 6; ++k) w.plane_wall(k).velocity.setZero();
 }
 
+// Servo-compressed packing, frictionless law, as stored by --packing.
+constexpr char kPackingMagic[8] = {'T', 'R', 'X', 'P', 'A', 'C', 'K', '1'};
+
+// The file also holds the time step of the timed runs (0.5 x critical with the servo's
+// contacts, which a freshly loaded world does not have yet).
+bool read_packing(const std::string& path, int n, World& w, double& dt) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return false;
+    char magic[8];
+    std::int64_t count = 0;
+    in.read(magic, 8);
+    in.read(reinterpret_cast<char*>(&count), sizeof count);
+    if (!in || std::memcmp(magic, kPackingMagic, 8) != 0 || count != n)
+        throw InputError("--packing " + path + ": not a packing of N = " + std::to_string(n) + " (delete it to rebuild)");
+    double walls[6];
+    in.read(reinterpret_cast<char*>(walls), sizeof walls);
+    in.read(reinterpret_cast<char*>(&dt), sizeof dt);
+    ContactLaw law;
+    law.kn = kKn; law.ks = kKs; law.friction = 0.0;
+    w.set_default_contact_law(law);
+    for (int k = 0; k < 6; ++k) {
+        const int axis = k / 2;
+        Vec3 point = Vec3::Zero(), normal = Vec3::Zero();
+        point[axis] = walls[k];
+        normal[axis] = k % 2 ? -1.0 : 1.0;
+        w.add_plane_wall(point, normal);
+    }
+    for (std::int64_t p = 0; p < count; ++p) {
+        double rec[10];
+        in.read(reinterpret_cast<char*>(rec), sizeof rec);
+        const int q = w.add_sphere(Vec3(rec[0], rec[1], rec[2]), rec[3], kDensity);
+        set_radius(w, q, rec[3]);
+        w.particles().velocity[q] = Vec3(rec[4], rec[5], rec[6]);
+        w.particles().angular_velocity[q] = Vec3(rec[7], rec[8], rec[9]);
+    }
+    if (!in) throw InputError("--packing " + path + ": file is truncated");
+    w.set_skin(0.2 * kRmin);
+    return true;
+}
+
+void write_packing(const std::string& path, const World& w, double dt) {
+    std::ofstream out(path, std::ios::binary);
+    const std::int64_t count = static_cast<std::int64_t>(w.particle_count());
+    out.write(kPackingMagic, 8);
+    out.write(reinterpret_cast<const char*>(&count), sizeof count);
+    for (int k = 0; k < 6; ++k) {
+        const double x = w.plane_wall(k).point[k / 2];
+        out.write(reinterpret_cast<const char*>(&x), sizeof x);
+    }
+    out.write(reinterpret_cast<const char*>(&dt), sizeof dt);
+    const auto& pa = w.particles();
+    for (std::size_t p = 0; p < pa.size(); ++p) {
+        const double rec[10] = {pa.position[p].x(), pa.position[p].y(), pa.position[p].z(), pa.radius[p],
+                                pa.velocity[p].x(), pa.velocity[p].y(), pa.velocity[p].z(),
+                                pa.angular_velocity[p].x(), pa.angular_velocity[p].y(), pa.angular_velocity[p].z()};
+        out.write(reinterpret_cast<const char*>(rec), sizeof rec);
+    }
+    if (!out) throw InputError("--packing " + path + ": cannot write");
+}
+
+// LAMMPS data file (atom_style sphere: id type diameter density x y z), the box = the walls.
+void write_lammps_data(const std::string& path, const World& w) {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (!f) throw InputError("--lammps-data " + path + ": cannot write");
+    const auto& pa = w.particles();
+    std::fprintf(f, "triax engine_bench packing (SI), walls at the box faces\n\n%zu atoms\n1 atom types\n\n", pa.size());
+    const char* axis[3] = {"x", "y", "z"};
+    for (int a = 0; a < 3; ++a)
+        std::fprintf(f, "%.17g %.17g %slo %shi\n", w.plane_wall(2 * a).point[a], w.plane_wall(2 * a + 1).point[a], axis[a], axis[a]);
+    std::fprintf(f, "\nAtoms # sphere\n\n");
+    for (std::size_t p = 0; p < pa.size(); ++p)
+        std::fprintf(f, "%zu 1 %.17g %.17g %.17g %.17g %.17g\n", p + 1, 2.0 * pa.radius[p], kDensity, pa.position[p].x(),
+                     pa.position[p].y(), pa.position[p].z());
+    std::fclose(f);
+}
+
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v[v.size() / 2];
@@ -157,20 +246,52 @@ double seconds_for(World w, int threads, long steps, double* cpu = nullptr) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const int n = argc > 1 ? std::atoi(argv[1]) : 10000;
-    const long steps = argc > 2 ? std::atol(argv[2]) : 5000;
-    const int repeats = argc > 3 ? std::atoi(argv[3]) : 3;
+    std::vector<std::string> positional;
+    std::string packing_path, lammps_path;
+    std::vector<int> thread_counts = {1, 2};
+    bool scaling = true;
+    for (int a = 1; a < argc; ++a) {
+        const std::string arg = argv[a];
+        if (arg == "--packing" && a + 1 < argc) packing_path = argv[++a];
+        else if (arg == "--lammps-data" && a + 1 < argc) lammps_path = argv[++a];
+        else if (arg == "--no-scaling") scaling = false;
+        else if (arg == "--threads" && a + 1 < argc) {
+            thread_counts.clear();
+            for (const char* s = argv[++a]; *s;) {
+                char* end = nullptr;
+                const long t = std::strtol(s, &end, 10);
+                if (end == s || t < 1) {
+                    std::fprintf(stderr, "engine_bench: --threads wants a list like 1,2\n");
+                    return 2;
+                }
+                thread_counts.push_back(static_cast<int>(t));
+                s = *end == ',' ? end + 1 : end;
+            }
+        } else if (arg.rfind("--", 0) == 0) {
+            std::fprintf(stderr, "engine_bench: unknown option %s\n", arg.c_str());
+            return 2;
+        } else positional.push_back(arg);
+    }
+    const int n = positional.size() > 0 ? std::atoi(positional[0].c_str()) : 10000;
+    const long steps = positional.size() > 1 ? std::atol(positional[1].c_str()) : 5000;
+    const int repeats = positional.size() > 2 ? std::atoi(positional[2].c_str()) : 3;
     try {
         const auto t_prep = std::chrono::steady_clock::now();
-        World w = loose_packing(n, 1);
-        std::fprintf(stderr, "expanded: step %ld, porosity %.3f, contacts %ld\n", w.step(),
-                     1.0 - solid_volume(w) / box_volume(w), w.active_contact_count());
-        servo_to(w, 100e3, 600);
-        std::fprintf(stderr, "servo done: step %ld\n", w.step());
+        World w;
+        double dt = 0.0;
+        if (packing_path.empty() || !read_packing(packing_path, n, w, dt)) {
+            w = loose_packing(n, 1);
+            std::fprintf(stderr, "expanded: step %ld, porosity %.3f, contacts %ld\n", w.step(),
+                         1.0 - solid_volume(w) / box_volume(w), w.active_contact_count());
+            servo_to(w, 100e3, 600);
+            std::fprintf(stderr, "servo done: step %ld\n", w.step());
+            dt = w.critical_time_step(0.5);
+            if (!packing_path.empty()) write_packing(packing_path, w, dt);
+        }
         ContactLaw law;
         law.kn = kKn; law.ks = kKs; law.friction = 0.4;
         w.set_default_contact_law(law);
-        w.set_time_step(w.critical_time_step(0.5));
+        w.set_time_step(dt);
         w.cycle(1000);
         const double porosity = 1.0 - solid_volume(w) / box_volume(w);
         const Vec3 s = wall_stress(w);
@@ -179,7 +300,8 @@ int main(int argc, char** argv) {
                     n, kRmin * 1e3, kRmax * 1e3, porosity, s.x() / 1e3, s.y() / 1e3, s.z() / 1e3,
                     w.active_contact_count(), 2.0 * w.active_contact_count() / n, w.time_step(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t_prep).count());
-        for (int threads : {1, 2}) {
+        if (!lammps_path.empty()) write_lammps_data(lammps_path, w);
+        for (int threads : thread_counts) {
             std::vector<double> runs, cpus;
             for (int r = 0; r < repeats; ++r) {
                 double cpu = 0.0;
@@ -195,6 +317,7 @@ int main(int argc, char** argv) {
         }
         // Scaling: quick packings (expansion only, frictionless) timed for a few hundred steps.
         for (int size : {2000, 8000, 32000}) {
+            if (!scaling) break;
             World q = loose_packing(size, 1);
             law.friction = 0.4;
             q.set_default_contact_law(law);

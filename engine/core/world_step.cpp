@@ -79,72 +79,108 @@ struct ParticleSums {
     int cause = 0;
 };
 
+// Whether slot k needs the law this step: bonded, or the spheres (after the reference
+// gap and the creep offset) overlap. Written once, used by the screen and by the law's
+// pass, so the decision and the d2 it is made on are the same expression in both.
+struct PairGeometry {
+    Vec3 d;          // x_j - x_i
+    double d2;       // |d|^2
+    double shift;    // reference gap - creep offset
+    bool touching;   // needs the law (bonded or overlapping)
+};
+[[gnu::always_inline]] inline PairGeometry pair_geometry(const ContactStore& c, const ParticleArrays& pa, long k) {
+    const int i = c.i[k], j = c.j[k];
+    PairGeometry g;
+    g.d = pa.position[j] - pa.position[i];
+    const double ri = pa.radius[i], rj = pa.radius[j];
+    g.shift = c.reference_gap[k] - c.creep_normal_offset[k];
+    const double reach = ri + rj + g.shift;
+    g.d2 = g.d.squaredNorm();
+    g.touching = c.bonded[k] || !(reach <= 0.0 || g.d2 >= reach * reach);
+    return g;
+}
+
 // One block of ball-ball slots: forces into the slots, energies into the block's sums
 // (the springs' stored energy only when kStateEnergy: see StepState::state_energy).
+// Two passes: a branch-free screen lists the slots that touch (or are bonded) and the
+// active ones that opened; the law then runs over the listed slots only, in slot order
+// (so the block's sums add up in the same order). Most candidate slots of a dense
+// packing do not touch, and whether one does is random from slot to slot: as a branch
+// inside the law's loop it was mispredicted often.
 template <bool kRolling, bool kStateEnergy>
 ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vector<LinearContact::Params>& params,
                        double dt, long b) {
     const long ns = static_cast<long>(c.size());
-    {
-        ContactSums sums;
-        const long end = std::min(ns, (b + 1) * kBlock);
-        for (long k = b * kBlock; k < end; ++k) {
-            const int i = c.i[k], j = c.j[k];
-            const Vec3 d = pa.position[j] - pa.position[i];
-            const double ri = pa.radius[i], rj = pa.radius[j];
-            const double shift = c.reference_gap[k] - c.creep_normal_offset[k];
-            const double reach = ri + rj + shift;
-            const double d2 = d.squaredNorm();
-            if (!c.bonded[k] && (reach <= 0.0 || d2 >= reach * reach)) {
-                if (c.active[k]) {
-                    // Opened. Creep offset survives while the spheres still overlap
-                    // geometrically (the contact was relaxed, not separated).
-                    const double geo = ri + rj + c.reference_gap[k];
-                    const double keep_offset = (geo > 0 && d2 < geo * geo) ? c.creep_normal_offset[k] : 0.0;
-                    c.reset_history(k);
-                    c.creep_normal_offset[k] = keep_offset;
-                    c.force_on_j[k].setZero();
-                    c.torque_on_i[k].setZero();
-                    c.torque_on_j[k].setZero();
-                    c.overlap[k] = 0.0;
-                }
-                // Invariant: inactive slots hold zero force, so nothing to write here.
-                continue;
-            }
-            const double dist = std::sqrt(d2);
-            const Vec3 n = d / dist;
-            const double geo_overlap = ri + rj - dist;
-            const Vec3 xc = pa.position[i] + n * (ri - 0.5 * geo_overlap);
-            const Vec3 ai = xc - pa.position[i], aj = xc - pa.position[j];
-            LinearContact::Kinematics kin;
-            kin.n = n;
-            kin.overlap = geo_overlap + shift;
-            kin.v_rel = (pa.velocity[j] + pa.angular_velocity[j].cross(aj)) - (pa.velocity[i] + pa.angular_velocity[i].cross(ai));
-            kin.w_rel = pa.angular_velocity[j] - pa.angular_velocity[i];
-            kin.m_eff = pa.mass[i] * pa.mass[j] / (pa.mass[i] + pa.mass[j]);
-            kin.r_bar = ri * rj / (ri + rj);
-            kin.dt = dt;
-            LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k], &c.neck_cracked[k],
-                                     c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
-                                     c.asperity_wear[k], &c.sliding_slip[k]};
-            const LinearContact::Outcome o = LinearContact::evaluate<kRolling, kStateEnergy>(params[c.law[k]], kin, h);
-            sums.add(o);
-            c.overlap[k] = kin.overlap;
-            c.contact_point[k] = xc;
-            if (!o.active) {
-                c.reset_history(k);
-                c.force_on_j[k].setZero();
-                c.torque_on_i[k].setZero();
-                c.torque_on_j[k].setZero();
-                continue;
-            }
-            c.active[k] = 1;
-            c.force_on_j[k] = o.force;
-            c.torque_on_i[k] = ai.cross(-o.force) - o.moment;
-            c.torque_on_j[k] = aj.cross(o.force) + o.moment;
-        }
-        return sums;
+    const long begin = b * kBlock, end = std::min(ns, (b + 1) * kBlock);
+    int touching[kBlock], opened[kBlock];
+    int n_touching = 0, n_opened = 0;
+    for (long k = begin; k < end; ++k) {
+        const bool touch = pair_geometry(c, pa, k).touching;
+        const int local = static_cast<int>(k - begin);
+        touching[n_touching] = local;
+        n_touching += touch;
+        opened[n_opened] = local;
+        n_opened += !touch & (c.active[k] != 0);
     }
+    for (int e = 0; e < n_opened; ++e) {
+        const long k = begin + opened[e];
+        const int i = c.i[k], j = c.j[k];
+        const double ri = pa.radius[i], rj = pa.radius[j];
+        const double d2 = (pa.position[j] - pa.position[i]).squaredNorm();
+        // Opened. Creep offset survives while the spheres still overlap geometrically
+        // (the contact was relaxed, not separated).
+        const double geo = ri + rj + c.reference_gap[k];
+        const double keep_offset = (geo > 0 && d2 < geo * geo) ? c.creep_normal_offset[k] : 0.0;
+        c.reset_history(k);
+        c.creep_normal_offset[k] = keep_offset;
+        c.force_on_j[k].setZero();
+        c.torque_on_i[k].setZero();
+        c.torque_on_j[k].setZero();
+        c.overlap[k] = 0.0;
+        // Invariant: inactive slots hold zero force (the gather skips them).
+    }
+    ContactSums sums;
+    for (int e = 0; e < n_touching; ++e) {
+        const long k = begin + touching[e];
+        const int i = c.i[k], j = c.j[k];
+        const PairGeometry g = pair_geometry(c, pa, k);
+        const Vec3 d = g.d;
+        const double ri = pa.radius[i], rj = pa.radius[j];
+        const double shift = g.shift;
+        const double d2 = g.d2;
+        const double dist = std::sqrt(d2);
+        const Vec3 n = d / dist;
+        const double geo_overlap = ri + rj - dist;
+        const Vec3 xc = pa.position[i] + n * (ri - 0.5 * geo_overlap);
+        const Vec3 ai = xc - pa.position[i], aj = xc - pa.position[j];
+        LinearContact::Kinematics kin;
+        kin.n = n;
+        kin.overlap = geo_overlap + shift;
+        kin.v_rel = (pa.velocity[j] + pa.angular_velocity[j].cross(aj)) - (pa.velocity[i] + pa.angular_velocity[i].cross(ai));
+        kin.w_rel = pa.angular_velocity[j] - pa.angular_velocity[i];
+        kin.m_eff = pa.mass[i] * pa.mass[j] / (pa.mass[i] + pa.mass[j]);
+        kin.r_bar = ri * rj / (ri + rj);
+        kin.dt = dt;
+        LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k], &c.neck_cracked[k],
+                                 c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
+                                 c.asperity_wear[k], &c.sliding_slip[k]};
+        const LinearContact::Outcome o = LinearContact::evaluate<kRolling, kStateEnergy>(params[c.law[k]], kin, h);
+        sums.add(o);
+        c.overlap[k] = kin.overlap;
+        c.contact_point[k] = xc;
+        if (!o.active) {
+            c.reset_history(k);
+            c.force_on_j[k].setZero();
+            c.torque_on_i[k].setZero();
+            c.torque_on_j[k].setZero();
+            continue;
+        }
+        c.active[k] = 1;
+        c.force_on_j[k] = o.force;
+        c.torque_on_i[k] = ai.cross(-o.force) - o.moment;
+        c.torque_on_j[k] = aj.cross(o.force) + o.moment;
+    }
+    return sums;
 }
 
 }  // namespace
