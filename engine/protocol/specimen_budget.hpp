@@ -24,8 +24,9 @@ struct SpecimenBudget {
     double memory_bytes;           // peak memory of building and running the specimen (bytes)
 };
 
-// Uncapped grain count the builder draws before applying max_particles (its transient peak).
-inline constexpr long long kMaxDrawnGrains = 20'000'000;
+// Uncapped grain count the builder draws before applying max_particles (its transient
+// peak; drawing and sorting them is not polled for cancel and takes about half a second).
+inline constexpr long long kMaxDrawnGrains = 5'000'000;
 // Simulated particles, grains + membrane.
 inline constexpr long long kMaxSpecimenParticles = 2'000'000;
 // Peak memory of one specimen.

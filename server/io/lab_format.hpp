@@ -33,6 +33,10 @@ struct LabParseError : std::runtime_error {
 
 enum class LabFormat { Csv, Gds, Ags, Json };
 
+// Limits shared by every format: names (dataset, specimen) and stage numbers.
+inline constexpr std::size_t kMaxNameBytes = 200;
+inline constexpr long long kMaxStage = 1000;
+
 std::optional<LabFormat> lab_format_from_name(std::string_view name);  // "csv","gds","ags","json"
 std::string lab_format_name(LabFormat f);
 // Guesses the format from the content (JSON brace, AGS "GROUP" line, GDS column names).

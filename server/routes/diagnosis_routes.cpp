@@ -243,7 +243,7 @@ void register_diagnosis_routes(Service& s) {
             return st.step();
         });
         if (!exists) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
-        serve_event_stream(req, res, s.diagnosis_events, id);
+        serve_event_stream(req, res, s.diagnosis_events, id, s.event_streams);
     });
 }
 

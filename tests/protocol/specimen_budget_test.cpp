@@ -132,9 +132,9 @@ TEST_CASE("budget: validate refuses a membrane or specimen over the particle bud
     s.micro.membrane_particle_radius_m = 1.0e-5;  // a 10 um lattice: ~1e8 spheres
     CHECK(refusal(s).rfind("micro.membrane_particle_radius_m:", 0) == 0);
 
-    TestScheme big;  // 3 mm grains in a 1.5 m x 3 m specimen: 1e7 grains asked, cap above the budget
-    big.specimen.diameter_m = 1.5;
-    big.specimen.height_m = 3.0;
+    TestScheme big;  // 3 mm grains in a 1 m x 2 m specimen: 4.4e6 grains asked, cap above the budget
+    big.specimen.diameter_m = 1.0;
+    big.specimen.height_m = 2.0;
     big.gradation.r_min_m = 3.0e-3;
     big.gradation.radius_ratio = 1.5;
     big.max_particles = 5000000;
