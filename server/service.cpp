@@ -94,11 +94,12 @@ Service::Service(ServiceConfig cfg, RunExecutor executor)
       diagnosis_events(db, "diagnosis_events", "diagnosis_id"),
       queue(static_cast<std::size_t>(config.workers), static_cast<std::size_t>(config.queue_limit)),
       runs(db, run_events, queue, std::move(executor), config.threads_per_run, config.max_threads_per_run),
+      diagnoses(db, diagnosis_events, queue, [this](std::int64_t id) { return load_dataset(*this, id, nullptr); }),
       event_streams(config.max_event_streams),
       guard_(GuardConfig{config.host, config.port, config.allowed_hosts, config.token}) {
     if (auto s = read_json_file(config.schema_dir / "scheme.schema.json")) scheme_schema.emplace(std::move(*s));
     openapi = read_json_file(config.schema_dir / "openapi.json").value_or(json::object());
-    interrupted_at_start = runs.recover_interrupted() + recover_interrupted_diagnoses(*this);
+    interrupted_at_start = runs.recover_interrupted() + diagnoses.recover_interrupted();
     backfill_dataset_headers(*this);
     register_routes();
 }
@@ -250,15 +251,12 @@ void Service::stop() {
     stopped_ = true;
     shutting_down = true;
     runs.begin_shutdown();
-    {
-        std::lock_guard lock(diagnosis_mutex);
-        for (auto& [id, flag] : diagnosis_cancel) flag->store(true);
-    }
+    diagnoses.begin_shutdown();
     // Jobs first: each running job stops at its next cancel poll and is recorded
     // "interrupted" with its terminal event; queued ones are recorded after the join.
     queue.shutdown();
     runs.recover_interrupted();
-    recover_interrupted_diagnoses(*this);
+    diagnoses.recover_interrupted();
     // The streams deliver what is stored (the terminal events) and end; then the server.
     run_events.shutdown();
     diagnosis_events.shutdown();

@@ -3,6 +3,7 @@
 // service and the HTTP server with every route. main.cpp only parses flags and calls
 // start(); the end-to-end tests start it in-process on an ephemeral port.
 #include "engine/diagnose/lab_data.hpp"
+#include "server/diagnoses/diagnosis_service.hpp"
 #include "server/events/event_log.hpp"
 #include "server/http/request_guard.hpp"
 #include "server/http/sse.hpp"
@@ -79,6 +80,7 @@ public:
     EventLog diagnosis_events;
     JobQueue queue;
     RunService runs;
+    DiagnosisService diagnoses;
     std::optional<io::JsonSchemaValidator> scheme_schema;  // absent if schema/scheme.schema.json is missing
     nlohmann::json openapi;
     httplib::Server http;
@@ -91,10 +93,7 @@ public:
     // Open SSE streams, capped at config.max_event_streams (503 beyond).
     StreamLimiter event_streams;
 
-    // Diagnosis jobs (diagnosis_routes.cpp): cancel flags shared with the workers.
-    std::atomic<bool> shutting_down{false};  // set by stop(): cancelled jobs become "interrupted"
-    std::mutex diagnosis_mutex;
-    std::map<std::int64_t, std::shared_ptr<std::atomic<bool>>> diagnosis_cancel;
+    std::atomic<bool> shutting_down{false};  // set by stop()
 
 private:
     void register_routes();
@@ -117,7 +116,6 @@ void register_result_routes(Service& s);
 void register_dataset_routes(Service& s);
 void register_comparison_routes(Service& s);
 void register_diagnosis_routes(Service& s);
-int recover_interrupted_diagnoses(Service& s);
 // Start-up: fills datasets.header_json for rows stored without it; returns how many.
 int backfill_dataset_headers(Service& s);
 

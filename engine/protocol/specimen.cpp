@@ -67,7 +67,7 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
     std::vector<Vec3> placed;
     placed.reserve(radii.size());
     for (double r_full : radii) {
-        if (placed.size() % 256 == 0) poll_cancel();  // placement is O(N^2): seconds for large N
+        poll_cancel();  // placement is O(N^2): a grain can take milliseconds when N is large
         const double r = kShrink * r_full;
         Vec3 best = Vec3::Zero();
         double best_gap = -1e9;

@@ -37,9 +37,9 @@ LabFormat sniff_lab_format(std::string_view text) {
     return LabFormat::Csv;
 }
 
-diagnose::LabDataset parse_lab_dataset(std::string_view text, LabFormat format) {
+diagnose::LabDataset parse_lab_dataset(std::string_view text, LabFormat format, std::vector<std::string>* notes) {
     switch (format) {
-        case LabFormat::Csv: return parse_lab_csv(text);
+        case LabFormat::Csv: return parse_lab_csv(text, notes);
         case LabFormat::Gds: return parse_lab_gds(text);
         case LabFormat::Ags: return parse_lab_ags(text);
         case LabFormat::Json: {

@@ -83,8 +83,9 @@ void register_dataset_routes(Service& s) {
             format = io::sniff_lab_format(req.body);
         }
         diagnose::LabDataset d;
+        std::vector<std::string> notes;
         try {
-            d = io::parse_lab_dataset(req.body, format);
+            d = io::parse_lab_dataset(req.body, format, &notes);
         } catch (const io::LabParseError& e) {
             auto err = unprocessable(std::string(io::lab_format_name(format)) + " upload: " + e.what());
             if (e.line > 0) err.at(e.line, e.column);
@@ -117,7 +118,9 @@ void register_dataset_routes(Service& s) {
             return db.last_insert_id();
         });
         res.set_header("Location", "/datasets/" + std::to_string(id));
-        send_json(res, dataset_header(id, name, fmt, created, header), 201);
+        auto out = dataset_header(id, name, fmt, created, header);
+        out["notes"] = notes;  // what the reader inferred (kind of a stage, separator)
+        send_json(res, out, 201);
     });
     s.route("GET", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto page = page_request(req);

@@ -3,3 +3,7 @@
 -- dataset under the database lock. Rows stored before this column are filled in at
 -- start-up (Service::backfill_dataset_headers).
 ALTER TABLE datasets ADD COLUMN header_json TEXT;
+
+-- A diagnosis started again from an interrupted (or finished) one names its origin, as
+-- runs.rerun_of does.
+ALTER TABLE diagnoses ADD COLUMN rerun_of INTEGER REFERENCES diagnoses(id) ON DELETE SET NULL;
