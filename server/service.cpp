@@ -260,6 +260,9 @@ void Service::stop() {
     // The streams deliver what is stored (the terminal events) and end; then the server.
     run_events.shutdown();
     diagnosis_events.shutdown();
+    // cpp-httplib ends a chunked stream mid-way once the server stops: give the streams up
+    // to 2 s to send what is stored and close (each releases its slot when it has).
+    for (int i = 0; i < 200 && event_streams.open() > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     http.stop();
     if (listener_.joinable()) listener_.join();
 }

@@ -66,7 +66,7 @@ TEST_CASE("AGS: a negative cell pressure is refused as in the CSV reader", "[ser
     CHECK(csv_error("confining_kPa,axial_strain_pct,q_kPa\n-50,0.5,10\n") != "accepted");
 }
 
-TEST_CASE("semicolon and tab separated CSV are read (decimal comma with ';'), and said so", "[server][lab][hostile]") {
+TEST_CASE("semicolon and tab separated CSV are read (decimal comma with semicolons), and said so", "[server][lab][hostile]") {
     std::vector<std::string> notes;
     const auto d = io::parse_lab_csv("confining_kPa;axial_strain_pct;q_kPa\n100;0,5;80\n100;1,0;120\n", &notes);
     REQUIRE(d.curves.size() == 1);
