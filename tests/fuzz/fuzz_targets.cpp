@@ -36,7 +36,9 @@ void lab(std::string_view text, io::LabFormat format) {
         std::vector<std::string> notes;
         const auto d = io::parse_lab_dataset(text, format, &notes);
         (void)io::lab_curve_index(d);
-        (void)io::lab_dataset_to_json(d).dump();
+        // The service refuses an upload that is not UTF-8 before parsing it (dataset_routes.cpp);
+        // here the bytes reach the parser, so the dump replaces them as send_json does.
+        (void)io::lab_dataset_to_json(d).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     } catch (const io::LabParseError&) {
     }
 }
