@@ -16,7 +16,8 @@ namespace {
 void usage() {
     std::cout << "usage: triaxd [--host H] [--port P] [--data-dir DIR] [--web-dir DIR] [--schema-dir DIR]\n"
                  "              [--workers N] [--threads-per-run N] [--queue-limit N] [--max-particles N]\n"
-                 "env: TRIAX_HOST, TRIAX_PORT, TRIAX_DATA_DIR\n";
+                 "              [--token T] [--allow-host NAME]... [--http-threads N] [--max-streams N] [--backlog N]\n"
+                 "env: TRIAX_HOST, TRIAX_PORT, TRIAX_DATA_DIR, TRIAX_TOKEN\n";
 }
 
 int to_int(const std::string& flag, const std::string& v) {
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
         if (const char* e = std::getenv("TRIAX_HOST")) cfg.host = e;
         if (const char* e = std::getenv("TRIAX_PORT")) cfg.port = to_int("TRIAX_PORT", e);
         if (const char* e = std::getenv("TRIAX_DATA_DIR")) cfg.data_dir = e;
+        if (const char* e = std::getenv("TRIAX_TOKEN")) cfg.token = e;
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
             if (a == "-h" || a == "--help") {
@@ -55,6 +57,11 @@ int main(int argc, char** argv) {
             else if (a == "--threads-per-run") cfg.threads_per_run = to_int(a, v);
             else if (a == "--queue-limit") cfg.queue_limit = to_int(a, v);
             else if (a == "--max-particles") cfg.max_particles = to_int(a, v);
+            else if (a == "--token") cfg.token = v;
+            else if (a == "--allow-host") cfg.allowed_hosts.push_back(v);
+            else if (a == "--http-threads") cfg.http_threads = to_int(a, v);
+            else if (a == "--max-streams") cfg.max_event_streams = to_int(a, v);
+            else if (a == "--backlog") cfg.listen_backlog = to_int(a, v);
             else throw std::invalid_argument("unknown flag " + a);
         }
     } catch (const std::exception& e) {
@@ -74,7 +81,9 @@ int main(int argc, char** argv) {
         std::thread waiter([&] {
             int sig = 0;
             sigwait(&stop_signals, &sig);
-            if (sig != 0) service.http.stop();
+            // Jobs are interrupted and their streams get the terminal event before the
+            // server stops; listen() below then returns.
+            if (sig != 0) service.stop();
         });
         waiter.detach();
         service.bind();

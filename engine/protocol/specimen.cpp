@@ -21,7 +21,7 @@ GrainCrushingParams crushing_params(const TestScheme& s) {
 }
 }  // namespace
 
-Specimen::Specimen(const TestScheme& s) : scheme_(s) {
+Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : scheme_(s), cancelled_(std::move(cancelled)) {
     s.validate();
     const double R = 0.5 * s.specimen.diameter_m, H = s.specimen.height_m;
     const double v_total = kPi * R * R * H;
@@ -67,6 +67,7 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     std::vector<Vec3> placed;
     placed.reserve(radii.size());
     for (double r_full : radii) {
+        poll_cancel();  // placement is O(N^2): a grain can take milliseconds when N is large
         const double r = kShrink * r_full;
         Vec3 best = Vec3::Zero();
         double best_gap = -1e9;
@@ -115,9 +116,13 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
             p.inertia[q] *= f * f * f * f * f;
         }
         world_.invalidate_neighbors();
+        poll_cancel();
         world_.cycle(300);
     }
-    for (int k = 0; k < 40 && world_.unbalanced_force_ratio() > 0.01; ++k) world_.cycle(250);
+    for (int k = 0; k < 40 && world_.unbalanced_force_ratio() > 0.01; ++k) {
+        poll_cancel();
+        world_.cycle(250);
+    }
 }
 
 Specimen::Specimen(const Specimen& o)
@@ -135,7 +140,8 @@ Specimen::Specimen(const Specimen& o)
       crush_force_now_(o.crush_force_now_),
       fatigue_life_scale_(o.fatigue_life_scale_),
       crushing_on_(o.crushing_on_),
-      crushing_events_(o.crushing_events_) {}
+      crushing_events_(o.crushing_events_),
+      cancelled_(o.cancelled_) {}
 
 ContactLaw Specimen::soil_law(bool friction_on) const {
     ContactLaw l;
@@ -241,6 +247,7 @@ long Specimen::install_soil_bonds() {
 }
 
 void Specimen::cycle(long n, double confining_pa) {
+    poll_cancel();
     for (long done = 0; done < n; done += kMembraneUpdateEvery) {
         membrane_->apply_pressure(world_, confining_pa);
         world_.cycle(std::min<long>(kMembraneUpdateEvery, n - done));

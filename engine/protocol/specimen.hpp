@@ -2,6 +2,7 @@
 // The triaxial specimen as a DEM model: soil spheres inside the bonded-particle membrane
 // between two rigid platens (plane walls), and the measurements on it. Axis z, centre at
 // the origin; groups: soil 0, membrane 1, platens 2. SI units, compression positive.
+#include <functional>
 #include <memory>
 #include <random>
 
@@ -16,13 +17,19 @@ constexpr int kSoilGroup = 0;
 constexpr int kMembraneGroup = 1;
 constexpr int kPlatenGroup = 2;
 
+// Thrown by the specimen's generation and by cycle() when the caller's cancel check
+// (set_cancel_check) answers true: the run stops within one chunk of cycles.
+struct SpecimenCancelled {};
+
 class Specimen {
 public:
     // Generates the soil at the target porosity by radius expansion inside the (held)
     // membrane: radii drawn from the gradation fill (1 - n) of the specimen volume, are
     // placed at 60 % size without overlap (seeded), then grown to full size in steps with
     // frictionless contacts, and relaxed to equilibrium. Deterministic for scheme.seed.
-    explicit Specimen(const TestScheme& scheme);
+    // `cancelled` (optional) is polled while grains are placed and grown and becomes the
+    // cancel check of cycle() (SpecimenCancelled).
+    explicit Specimen(const TestScheme& scheme, std::function<bool()> cancelled = {});
     // A deep copy (world and membrane): a second test on the same consolidated specimen
     // without generating and consolidating it again.
     Specimen(const Specimen& other);
@@ -44,7 +51,9 @@ public:
 
     // Cycles n steps, refreshing the membrane follower forces every few steps; crushable
     // contacts are return-mapped after every such chunk.
+    // Throws SpecimenCancelled when the cancel check answers true (polled once a call).
     void cycle(long n, double confining_pa);
+    void set_cancel_check(std::function<bool()> cancelled) { cancelled_ = std::move(cancelled); }
     // Crushing events (contacts x passes) since enable_crushing().
     long crushing_events() const { return crushing_events_; }
     // Grain i's crushing force F_c (N); empty when crushing is off.
@@ -95,6 +104,10 @@ private:
     std::vector<double> fatigue_life_scale_;  // (S_i / sigma0)^-2 per soil grain
     bool crushing_on_ = false;
     long crushing_events_ = 0;
+    std::function<bool()> cancelled_;
+    void poll_cancel() const {
+        if (cancelled_ && cancelled_()) throw SpecimenCancelled{};
+    }
 };
 
 }  // namespace triax::protocol

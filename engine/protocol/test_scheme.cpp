@@ -5,10 +5,15 @@
 
 #include "engine/core/types.hpp"
 #include "engine/protocol/gradation.hpp"
+#include "engine/protocol/specimen_budget.hpp"
 
 namespace triax::protocol {
 
 namespace {
+constexpr double kMaxModulusPa = 1.0e12;            // diamond ~1.2e12
+constexpr double kMaxStiffnessNm = 1.0e12;
+constexpr double kMaxStageDurationS = 365.25 * 86400.0;
+
 void require(bool ok, const std::string& field, const std::string& why) {
     if (!ok) throw InputError(field + ": " + why);
 }
@@ -28,9 +33,15 @@ void TestScheme::validate() const {
             "largest radius must be below a quarter of the specimen diameter");
     require(micro.friction >= 0.0 && micro.friction < 5.0, "micro.friction", "must be in [0, 5)");
     require(micro.local_damping >= 0.0 && micro.local_damping < 1.0, "micro.local_damping", "must be in [0, 1)");
-    require(micro.normal_modulus_pa > 0.0, "micro.normal_modulus_pa", "must be > 0");
-    require(micro.shear_modulus_pa > 0.0, "micro.shear_modulus_pa", "must be > 0");
-    require(micro.wall_normal_stiffness_n_m > 0.0, "micro.wall_normal_stiffness_n_m", "must be > 0");
+    // Upper limits keep the critical time step, and so the run's length, finite.
+    require(micro.normal_modulus_pa > 0.0 && micro.normal_modulus_pa <= kMaxModulusPa, "micro.normal_modulus_pa",
+            "must be in (0, 1e12] Pa");
+    require(micro.shear_modulus_pa > 0.0 && micro.shear_modulus_pa <= kMaxModulusPa, "micro.shear_modulus_pa",
+            "must be in (0, 1e12] Pa");
+    require(micro.wall_normal_stiffness_n_m > 0.0 && micro.wall_normal_stiffness_n_m <= kMaxStiffnessNm,
+            "micro.wall_normal_stiffness_n_m", "must be in (0, 1e12] N/m");
+    require(micro.wall_shear_stiffness_n_m >= 0.0 && micro.wall_shear_stiffness_n_m <= kMaxStiffnessNm,
+            "micro.wall_shear_stiffness_n_m", "must be in [0, 1e12] N/m");
     require(micro.bond_normal_strength_pa >= 0.0, "micro.bond_normal_strength_pa", "must be >= 0");
     require(micro.bond_shear_strength_pa >= 0.0, "micro.bond_shear_strength_pa", "must be >= 0");
     require(micro.bond_friction >= 0.0 && micro.bond_friction < 5.0, "micro.bond_friction", "must be in [0, 5)");
@@ -38,7 +49,8 @@ void TestScheme::validate() const {
     require(micro.bond_rolling_friction >= 0.0 && micro.bond_rolling_friction <= 1.0, "micro.bond_rolling_friction",
             "must be in [0, 1] (the neck's half-width over the contact's effective radius)");
     require(micro.membrane_particle_radius_m >= 0.0, "micro.membrane_particle_radius_m", "must be >= 0");
-    require(micro.membrane_stiffness_n_m > 0.0, "micro.membrane_stiffness_n_m", "must be > 0");
+    require(micro.membrane_stiffness_n_m > 0.0 && micro.membrane_stiffness_n_m <= kMaxStiffnessNm,
+            "micro.membrane_stiffness_n_m", "must be in (0, 1e12] N/m");
     require(micro.crushing_strength_pa >= 0.0, "micro.crushing_strength_pa", "must be >= 0 (0 = no crushing)");
     require(micro.crushing_reference_diameter_m > 0.0, "micro.crushing_reference_diameter_m", "must be > 0");
     require(micro.crushing_weibull_modulus >= 1.0 && micro.crushing_weibull_modulus <= 50.0,
@@ -86,7 +98,8 @@ void TestScheme::validate() const {
     require(loading.stage_durations_s.size() == loading.stress_levels.size(), "loading.stage_durations_s",
             "needs one duration per stress level");
     for (std::size_t i = 0; i < loading.stage_durations_s.size(); ++i)
-        require(loading.stage_durations_s[i] > 0.0, "loading.stage_durations_s[" + std::to_string(i) + "]", "must be > 0");
+        require(loading.stage_durations_s[i] > 0.0 && loading.stage_durations_s[i] <= kMaxStageDurationS,
+                "loading.stage_durations_s[" + std::to_string(i) + "]", "must be in (0, 1 year]");
     require(loading.cohesion_pa >= 0.0, "loading.cohesion_pa", "must be >= 0");
     require(loading.friction_angle_deg > 0.0 && loading.friction_angle_deg < 89.0, "loading.friction_angle_deg",
             "must be in (0, 89) deg");
@@ -99,6 +112,9 @@ void TestScheme::validate() const {
             "loading.consolidation_tolerance", "must be in (0, 0.5)");
     require(threads >= 1 && threads <= 256, "threads", "must be in [1, 256]");
     require(max_particles >= 0, "max_particles", "must be >= 0");
+    // Size of the specimen before anything is drawn (specimen_budget.hpp), whatever
+    // max_particles says: the builder draws the uncapped gradation first.
+    check_specimen_budget(*this);
 }
 
 }  // namespace triax::protocol

@@ -102,7 +102,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         auto consolidated = [&](bool report) {
             obs.stage_changed("generation", 0, 0.0, 0.0);
             prog.report("generation", 0, 0.0);
-            auto sp = std::make_unique<Specimen>(scheme);
+            auto sp = std::make_unique<Specimen>(scheme, [&obs] { return obs.cancel_requested(); });
             World& w = sp->world();
             if (report) {
                 res.particle_count = sp->soil_count();
@@ -455,6 +455,9 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         }
         res.total_steps = shear_steps + w.step();
     } catch (const Progress::Cancelled&) {
+        res.cancelled = true;
+        res.converged = false;
+    } catch (const SpecimenCancelled&) {  // polled inside generation and every chunk of cycles
         res.cancelled = true;
         res.converged = false;
     }

@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
 #include "engine/core/types.hpp"
 #include "engine/protocol/paper_groups.hpp"
 #include "engine/protocol/triaxial_test.hpp"
+#include "server/io/bounded_json.hpp"
 #include "server/io/result_csv.hpp"
 #include "server/io/result_json.hpp"
 #include "server/io/scheme_json.hpp"
@@ -72,11 +74,12 @@ int run(int argc, char** argv) {
     } else if (!scheme_path.empty()) {
         std::ifstream f(scheme_path);
         if (!f) throw std::invalid_argument("cannot open " + scheme_path);
+        const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
         nlohmann::json j;
         try {
-            j = nlohmann::json::parse(f);
-        } catch (const nlohmann::json::parse_error& e) {
-            throw std::invalid_argument(scheme_path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+            j = triax::io::parse_bounded_json(text);
+        } catch (const triax::io::JsonLimitError& e) {
+            throw std::invalid_argument(scheme_path + ": " + (e.pointer.empty() ? "" : "field " + e.pointer + ": ") + e.what());
         }
         try {
             scheme = triax::io::scheme_from_json(j);

@@ -1,6 +1,8 @@
 // DiagnosisReport <-> JSON in lab units (see diagnosis_json.hpp).
 #include "server/io/diagnosis_json.hpp"
 
+#include <cmath>
+
 #include "server/io/diagnosis_verdict.hpp"
 
 namespace triax::io {
@@ -115,14 +117,15 @@ T bounded(const json& body, const char* key, T lo, T hi, T fallback) {
     const std::string pointer = std::string("/") + key;
     if (!v.is_number())
         throw DiagnosisRequestError(pointer, std::string(key) + " must be a number, got " + std::string(v.type_name()));
-    if constexpr (std::is_integral_v<T>) {
-        if (!v.is_number_integer() && !(v.is_number_float() && v.get<double>() == static_cast<double>(static_cast<long long>(v.get<double>()))))
-            throw DiagnosisRequestError(pointer, std::string(key) + " must be an integer");
-    }
+    // Range first (as a double, never cast out of range), then integrality.
     const double x = v.get<double>();
-    if (x < static_cast<double>(lo) || x > static_cast<double>(hi))
+    if (!(x >= static_cast<double>(lo) && x <= static_cast<double>(hi)))
         throw DiagnosisRequestError(pointer, std::string(key) + " must be between " + std::to_string(lo) + " and " +
                                                  std::to_string(hi) + ", got " + v.dump());
+    if constexpr (std::is_integral_v<T>) {
+        if (std::floor(x) != x) throw DiagnosisRequestError(pointer, std::string(key) + " must be an integer");
+        if (v.is_number_integer()) return v.get<T>();
+    }
     return static_cast<T>(x);
 }
 

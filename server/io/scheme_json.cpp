@@ -1,6 +1,7 @@
 #include "server/io/scheme_json.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <vector>
@@ -13,6 +14,11 @@ using nlohmann::json;
 using protocol::TestScheme;
 
 namespace {
+
+// Length limits of a scheme document: a name is a label, a stress-level list or sieve
+// curve a few dozen entries in any lab practice.
+constexpr std::size_t kMaxSchemeNameBytes = 200;
+constexpr std::size_t kMaxSchemeArray = 100;
 
 // One numeric field: where it lives in JSON, its SI name in TestScheme (as used in
 // TestScheme::validate messages) and the factor lab -> SI.
@@ -126,11 +132,30 @@ double number_at(const json& v, const std::string& pointer) {
     return d;
 }
 
+// A lab value converted to SI; 1e308 MPa is a finite JSON number but not a finite pascal.
+double si_number_at(const json& v, const std::string& pointer, double to_si) {
+    const double si = to_si * number_at(v, pointer);
+    if (!std::isfinite(si)) throw SchemeError(pointer, "beyond the range of this field (not finite in SI units)");
+    return si;
+}
+
 std::vector<double> number_array(const json& v, const std::string& pointer, double to_si) {
     if (!v.is_array()) throw SchemeError(pointer, "must be an array of numbers");
+    if (v.size() > kMaxSchemeArray)
+        throw SchemeError(pointer, "at most " + std::to_string(kMaxSchemeArray) + " entries");
     std::vector<double> out;
-    for (std::size_t i = 0; i < v.size(); ++i) out.push_back(to_si * number_at(v[i], pointer + "/" + std::to_string(i)));
+    for (std::size_t i = 0; i < v.size(); ++i) out.push_back(si_number_at(v[i], pointer + "/" + std::to_string(i), to_si));
     return out;
+}
+
+// An integer field read whole: 2^63 must not wrap to a negative int.
+long long integer_at(const json& v, const std::string& pointer, long long lo, long long hi) {
+    const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    if (!v.is_number_integer()) throw SchemeError(pointer, "must be an integer in " + range);
+    const bool too_big = v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi);
+    const long long n = too_big ? hi : v.get<long long>();
+    if (too_big || n < lo || n > hi) throw SchemeError(pointer, "must be an integer in " + range + ", got " + v.dump());
+    return n;
 }
 
 // Maps a TestScheme::validate dotted name ("loading.stress_levels[2]") to a JSON pointer.
@@ -195,17 +220,17 @@ TestScheme scheme_from_json(const json& j) {
     if (j.contains("name")) {
         if (!j["name"].is_string()) throw SchemeError("/name", "must be a string");
         s.name = j["name"].get<std::string>();
+        if (s.name.size() > kMaxSchemeNameBytes)
+            throw SchemeError("/name", "must be at most " + std::to_string(kMaxSchemeNameBytes) + " bytes");
     }
     if (j.contains("seed")) {
         if (!j["seed"].is_number_integer() || j["seed"].get<long long>() < 0)
             throw SchemeError("/seed", "must be a non-negative integer");
         s.seed = j["seed"].get<std::uint64_t>();
     }
-    for (const char* key : {"threads", "max_particles"}) {
-        if (!j.contains(key)) continue;
-        if (!j[key].is_number_integer()) throw SchemeError(std::string("/") + key, "must be an integer");
-        (std::string(key) == "threads" ? s.threads : s.max_particles) = j[key].get<int>();
-    }
+    if (j.contains("threads")) s.threads = static_cast<int>(integer_at(j["threads"], "/threads", 1, 256));
+    if (j.contains("max_particles"))
+        s.max_particles = static_cast<int>(integer_at(j["max_particles"], "/max_particles", 0, 100'000'000));
     // Unknown keys inside sections.
     for (const auto& sec : sections) {
         if (!j.contains(sec)) continue;
@@ -222,7 +247,7 @@ TestScheme scheme_from_json(const json& j) {
     }
     for (const auto& f : number_fields()) {
         if (!j.contains(f.section) || !j[f.section].contains(f.key)) continue;
-        f.ref(s) = f.to_si * number_at(j[f.section][f.key], ptr(f.section, f.key));
+        f.ref(s) = si_number_at(j[f.section][f.key], ptr(f.section, f.key), f.to_si);
     }
     for (const auto& f : bool_fields()) {
         if (!j.contains(f.section) || !j[f.section].contains(f.key)) continue;
@@ -243,6 +268,8 @@ TestScheme scheme_from_json(const json& j) {
         if (g.contains("sieve_curve")) {
             const auto& c = g["sieve_curve"];
             if (!c.is_array()) throw SchemeError("/gradation/sieve_curve", "must be an array of {size_mm, passing_pct}");
+            if (c.size() > kMaxSchemeArray)
+                throw SchemeError("/gradation/sieve_curve", "at most " + std::to_string(kMaxSchemeArray) + " points");
             for (std::size_t i = 0; i < c.size(); ++i) {
                 const std::string p = "/gradation/sieve_curve/" + std::to_string(i);
                 if (!c[i].is_object() || !c[i].contains("size_mm") || !c[i].contains("passing_pct"))

@@ -4,6 +4,8 @@
 #include "server/http/sse.hpp"
 #include "server/service.hpp"
 
+#include <cstdint>
+
 namespace triax::service {
 
 using nlohmann::json;
@@ -19,21 +21,11 @@ void register_run_routes(Service& s) {
         if (inline_scheme == by_id) throw unprocessable("give exactly one of 'scheme' or 'scheme_id'").at_field("/scheme");
         std::optional<int> threads;
         if (body.contains("threads")) {
-            if (!body["threads"].is_number_integer())
-                throw unprocessable("threads must be an integer").at_field("/threads");
-            const auto t = body["threads"].get<long long>();
-            if (t < 1 || t > s.config.max_threads_per_run)
-                throw unprocessable("threads = " + std::to_string(t) + " is outside [1, " +
-                                    std::to_string(s.config.max_threads_per_run) + "]")
-                    .at_field("/threads")
-                    .with_limit("1 <= threads <= " + std::to_string(s.config.max_threads_per_run));
-            threads = static_cast<int>(t);
+            threads = static_cast<int>(body_integer(body["threads"], "/threads", 1, s.config.max_threads_per_run));
         }
         std::int64_t scheme_id = 0;
         if (by_id) {
-            if (!body["scheme_id"].is_number_integer() || body["scheme_id"].get<long long>() < 1)
-                throw unprocessable("scheme_id must be a positive integer").at_field("/scheme_id");
-            scheme_id = body["scheme_id"].get<std::int64_t>();
+            scheme_id = body_integer(body["scheme_id"], "/scheme_id", 1, INT64_MAX);
         } else {
             scheme_id = store_scheme(s, body["scheme"], "/scheme")["id"].get<std::int64_t>();
         }
@@ -61,7 +53,7 @@ void register_run_routes(Service& s) {
     s.route("GET", R"(/runs/([^/]+)/events)", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);
         if (!s.runs.exists(id)) throw not_found("run " + std::to_string(id) + " does not exist");
-        serve_event_stream(req, res, s.run_events, id);
+        serve_event_stream(req, res, s.run_events, id, s.event_streams);
     });
 }
 

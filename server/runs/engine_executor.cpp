@@ -38,6 +38,9 @@ public:
         ctx_.emit("progress", d);
     }
     void stage_changed(const std::string& stage, int index, double stress_level, double q_target_pa) override {
+        // The engine closes a cancelled run with "done" too; the run keeps the stage it
+        // stopped in.
+        if (stage == "done" && ctx_.cancel_requested()) return;
         json d{{"stage", stage}, {"index", index}};
         if (index > 0) {
             d["stress_level"] = stress_level;
