@@ -40,10 +40,14 @@ diagnose::LabDataset parse_lab_ags(std::string_view text) {
         if (tag == "GROUP") {
             if (r.fields.size() < 2 || r.fields[1].empty()) throw LabParseError("GROUP without a name", r.line, 1);
             current = r.fields[1];
+            // A group read twice would take the second HEADING for the first one's rows.
+            if (groups.count(current)) throw LabParseError("group " + current + " appears twice", r.line, 1);
             groups[current];
         } else if (current.empty()) {
             throw LabParseError("'" + tag + "' row before any GROUP row", r.line, 1);
         } else if (tag == "HEADING") {
+            if (!groups[current].headings.empty())
+                throw LabParseError("group " + current + " has a second HEADING row", r.line, 1);
             groups[current].headings = r.fields;
             groups[current].heading_line = r.line;
         } else if (tag == "UNIT") {

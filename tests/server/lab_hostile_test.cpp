@@ -66,6 +66,15 @@ TEST_CASE("AGS: a negative cell pressure is refused as in the CSV reader", "[ser
     CHECK(csv_error("confining_kPa,axial_strain_pct,q_kPa\n-50,0.5,10\n") != "accepted");
 }
 
+TEST_CASE("AGS: a group or HEADING given twice is refused (found by fuzzing: heap overflow)", "[server][lab][hostile]") {
+    const std::string first = "\"GROUP\",\"TRET\"\n\"HEADING\",\"LOCA_ID\"\n\"DATA\",\"BH1\"\n";
+    const std::string again = "\"GROUP\",\"TRET\"\n\"HEADING\",\"LOCA_ID\",\"SAMP_ID\",\"TRET_CELL\"\n";
+    CHECK_THROWS_AS(io::parse_lab_ags(first + again), io::LabParseError);
+    CHECK_THROWS_AS(io::parse_lab_ags("\"GROUP\",\"TRET\"\n\"HEADING\",\"LOCA_ID\"\n\"DATA\",\"BH1\"\n"
+                                      "\"HEADING\",\"LOCA_ID\",\"SAMP_ID\",\"TRET_CELL\"\n"),
+                    io::LabParseError);
+}
+
 TEST_CASE("semicolon and tab separated CSV are read (decimal comma with semicolons), and said so", "[server][lab][hostile]") {
     std::vector<std::string> notes;
     const auto d = io::parse_lab_csv("confining_kPa;axial_strain_pct;q_kPa\n100;0,5;80\n100;1,0;120\n", &notes);
