@@ -157,7 +157,6 @@ json snapshot_view_json(const SpecimenSnapshot& s) {
 }
 
 json snapshot_project_json(const SpecimenSnapshot& s) {
-    const std::size_t n = s.particle_count(), m = s.contact_count();
     json P = json::object();
     auto put_vec = [&](json& obj, const std::vector<Vec3>& v, const char* a, const char* b, const char* c) {
         json xa = json::array(), xb = json::array(), xc = json::array();
@@ -195,8 +194,6 @@ json snapshot_project_json(const SpecimenSnapshot& s) {
                            {"normal_force_N", p.normal_force_n}});
     json spheres = json::array();
     for (const auto& ms : s.measurement_spheres) spheres.push_back({{"center_m", vec_json(ms.center)}, {"radius_m", ms.radius_m}});
-    (void)n;
-    (void)m;
     return {{"format", kProjectFormat}, {"version", kProjectVersion}, {"units", "SI"},
             {"stage", s.stage},         {"step", s.step},              {"groups", s.group_names},
             {"particles", P},           {"contacts", C},               {"platens", platens},

@@ -31,7 +31,7 @@ long long run_to_end(TestServer& srv, const json& body) {
 }
 }  // namespace
 
-TEST_CASE("a run's snapshots are stored and served; an exported packing re-imported gives the same run",
+TEST_CASE("a run's snapshots are stored and served, and an exported packing re-imported gives the same run",
           "[server][e2e][engine][snapshots]") {
     TestServer srv(triax::service::make_engine_executor());
     const long long id = run_to_end(srv, json{{"scheme", kTinyScheme}});
