@@ -11,7 +11,7 @@
 // no bonds, no viscous damping, local damping 0.7, true masses (no density scaling), one dt.
 // Writes triax_curve.csv (axial_strain_pct, q_kPa, volumetric_strain_pct, p_kPa).
 //
-// Usage: cross_engine_box OUT_DIR [N=2000]
+// Usage: cross_engine_box OUT_DIR [N=2000] [ISO_STEPS=60000] [RATE_PER_S=2]
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,11 +33,15 @@ constexpr double kRmin = 1.0e-3, kRmax = 1.5e-3;
 constexpr double kEn = 230.15e6, kEs = 150.63e6;  // Table 3 moduli (docs/parameters.md)
 constexpr double kFriction = 0.4, kDamping = 0.7;
 constexpr double kSigma3 = 100e3;
-constexpr double kRate = 2.0;                      // axial strain rate, 1/s (inertial number ~4e-4)
+double kRate = 2.0;                                // axial strain rate, 1/s (2: inertial number ~4e-4)
 constexpr long kServoEvery = 10;                   // steps between servo updates (both engines)
-constexpr double kServoGain = 0.3;                 // m/s per unit relative stress error
-constexpr double kServoVmax = 0.05;                // m/s
-constexpr long kIsoSteps = 60000, kSampleEvery = 1000;
+// Servo gain (m/s per unit relative stress error) and speed cap (m/s): 0.3 and 0.05 for the
+// isotropic compression; in the shear in proportion to the loading rate (the same at 2 /s)
+// so that the lateral walls can follow the specimen's expansion.
+double kServoGain = 0.3;
+double kServoVmax = 0.05;
+long kIsoSteps = 60000;
+constexpr long kSampleEvery = 1000;
 
 struct Rng {
     std::uint64_t s;
@@ -79,11 +83,13 @@ void servo(World& w, bool axes[3]) {
 
 int main(int argc, char** argv) {
     if (argc < 2) {
-        std::fprintf(stderr, "usage: cross_engine_box OUT_DIR [N=2000]\n");
+        std::fprintf(stderr, "usage: cross_engine_box OUT_DIR [N=2000] [ISO_STEPS=60000] [RATE_PER_S=2]\n");
         return 2;
     }
     const std::filesystem::path out = argv[1];
     const int n = argc > 2 ? std::atoi(argv[2]) : 2000;
+    if (argc > 3) kIsoSteps = std::atol(argv[3]);
+    if (argc > 4) kRate = std::atof(argv[4]);
     std::filesystem::create_directories(out);
     const double r_mean = 0.5 * (kRmin + kRmax);
     const double kn = 0.5 * kPi * r_mean * kEn, ks = 0.5 * kPi * r_mean * kEs;
@@ -154,9 +160,10 @@ int main(int argc, char** argv) {
                       "{\"box_m\": [%.17g, %.17g, %.17g], \"kn_N_m\": %.17g, \"ks_N_m\": %.17g, \"friction\": %g, "
                       "\"density_kg_m3\": %g, \"local_damping\": %g, \"dt_s\": %.17g, \"sigma3_Pa\": %g, "
                       "\"strain_rate_per_s\": %g, \"servo_every\": %ld, \"servo_gain_m_s\": %g, \"servo_vmax_m_s\": %g, "
+                      "\"shear_servo_gain_m_s\": %g, \"shear_servo_vmax_m_s\": %g, "
                       "\"iso_steps\": %ld, \"sample_every\": %ld, \"max_axial_strain\": 0.1}\n",
                       L, L, L, kn, ks, kFriction, kDensity, kDamping, dt, kSigma3, kRate, kServoEvery, kServoGain,
-                      kServoVmax, kIsoSteps, kSampleEvery);
+                      kServoVmax, 0.15 * kRate, 0.025 * kRate, kIsoSteps, kSampleEvery);
         f << b;
     }
     std::fprintf(stderr, "packing: %d spheres, box %.3f mm, dt %.3g s, kn %.4g N/m, ks %.4g N/m\n", n, 1e3 * L, dt, kn, ks);
@@ -177,6 +184,8 @@ int main(int argc, char** argv) {
     std::ofstream csv(out / "triax_curve.csv");
     csv << "axial_strain_pct,q_kPa,volumetric_strain_pct,p_kPa\n";
     const double vz = 0.5 * kRate * l0.z();
+    kServoGain = 0.15 * kRate;
+    kServoVmax = 0.025 * kRate;
     w.plane_wall(4).velocity = Vec3(0, 0, vz);
     w.plane_wall(5).velocity = Vec3(0, 0, -vz);
     for (long step = 0;; step += kServoEvery) {

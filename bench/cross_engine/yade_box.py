@@ -46,10 +46,10 @@ def wall_stress():
     area = [l[1] * l[2], l[0] * l[2], l[0] * l[1]]
     return [0.5 * (-O.forces.f(walls[2 * a])[a] + O.forces.f(walls[2 * a + 1])[a]) / area[a] for a in range(3)]
 
-def servo(axes):
+def servo(axes, gain, vmax):
     s = wall_stress()
     for a in axes:
-        v = max(-P["servo_vmax_m_s"], min(P["servo_vmax_m_s"], P["servo_gain_m_s"] * (s[a] - sigma3) / sigma3))
+        v = max(-vmax, min(vmax, gain * (s[a] - sigma3) / sigma3))
         lo, hi = Vector3(0, 0, 0), Vector3(0, 0, 0)
         lo[a], hi[a] = -v, v
         O.bodies[walls[2 * a]].state.vel = lo
@@ -64,35 +64,39 @@ if real:
     if abs(k - kn) > 1e-6 * kn:
         sys.exit("the ViscElPhys stiffness is not the target: the series rule differs in this YADE")
 
-steps = 1
-while steps < P["iso_steps"]:
-    servo([0, 1, 2])
-    O.run(every, True)
-    steps += every
-s = wall_stress()
-l0 = lengths()
-v_solid = sum(4.0 / 3.0 * math.pi * b.shape.radius ** 3 for b in spheres)
-print("isotropic: stress %.2f %.2f %.2f kPa, solid fraction %.4f" % (s[0] * 1e-3, s[1] * 1e-3, s[2] * 1e-3,
-                                                                    v_solid / (l0[0] * l0[1] * l0[2])))
-v0 = l0[0] * l0[1] * l0[2]
-vz = 0.5 * P["strain_rate_per_s"] * l0[2]
-O.bodies[walls[4]].state.vel = Vector3(0, 0, vz)
-O.bodies[walls[5]].state.vel = Vector3(0, 0, -vz)
-out = open(os.path.join(d, "yade_curve.csv"), "w")
-out.write("axial_strain_pct,q_kPa,volumetric_strain_pct,p_kPa\n")
-step = 0
-while True:
+# The servo runs inside the engine loop every `every` steps (as in triax), the samples too.
+state = {"mode": "iso", "l0": None, "v0": None, "out": None}
+
+def control():
+    if state["mode"] == "iso":
+        if O.iter < P["iso_steps"]:
+            servo([0, 1, 2], P["servo_gain_m_s"], P["servo_vmax_m_s"])
+            return
+        s = wall_stress()
+        l0 = lengths()
+        v_solid = sum(4.0 / 3.0 * math.pi * b.shape.radius ** 3 for b in spheres)
+        print("isotropic: stress %.2f %.2f %.2f kPa, solid fraction %.4f" % (s[0] * 1e-3, s[1] * 1e-3, s[2] * 1e-3,
+                                                                            v_solid / (l0[0] * l0[1] * l0[2])))
+        state.update(mode="shear", l0=l0, v0=l0[0] * l0[1] * l0[2], start=O.iter,
+                     out=open(os.path.join(d, "yade_curve.csv"), "w"))
+        state["out"].write("axial_strain_pct,q_kPa,volumetric_strain_pct,p_kPa\n")
+        vz = 0.5 * P["strain_rate_per_s"] * l0[2]
+        O.bodies[walls[4]].state.vel = Vector3(0, 0, vz)
+        O.bodies[walls[5]].state.vel = Vector3(0, 0, -vz)
+    l0, v0 = state["l0"], state["v0"]
     l = lengths()
     ea = (l0[2] - l[2]) / l0[2]
-    if step % P["sample_every"] == 0:
+    if (O.iter - state["start"]) % P["sample_every"] == 0:
         s = wall_stress()
         q = s[2] - 0.5 * (s[0] + s[1])
         ev = (v0 - l[0] * l[1] * l[2]) / v0
-        out.write("%.6f,%.4f,%.6f,%.4f\n" % (100 * ea, 1e-3 * q, 100 * ev, 1e-3 * sum(s) / 3))
-        out.flush()
+        state["out"].write("%.6f,%.4f,%.6f,%.4f\n" % (100 * ea, 1e-3 * q, 100 * ev, 1e-3 * sum(s) / 3))
+        state["out"].flush()
     if ea >= P["max_axial_strain"]:
-        break
-    servo([0, 1])
-    O.run(every, True)
-    step += every
-print("shear done")
+        print("shear done")
+        O.pause()
+        return
+    servo([0, 1], P["shear_servo_gain_m_s"], P["shear_servo_vmax_m_s"])
+
+O.engines = O.engines + [PyRunner(command="control()", iterPeriod=every, initRun=True)]
+O.run(-1, True)
