@@ -185,6 +185,8 @@ void Service::register_routes() {
     register_dataset_routes(*this);
     register_comparison_routes(*this);
     register_diagnosis_routes(*this);
+    register_snapshot_routes(*this);
+    register_packing_routes(*this);
     // Last: bodies sent to no route (or with PUT/PATCH) are read under the same cap, then
     // answered 405 (the path has other methods) or 404; cpp-httplib would otherwise read a
     // chunked body whole before finding no handler.
@@ -200,9 +202,11 @@ void Service::register_routes() {
     http.Patch(".*", read_capped(config.max_body_bytes, refuse));
 }
 
-void Service::route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler) {
+void Service::route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler,
+                    const std::string& described) {
     std::string path = pattern;
     for (std::size_t at; (at = path.find("([^/]+)")) != std::string::npos;) path.replace(at, 7, "{id}");
+    if (!described.empty()) path = described;
     routes.emplace_back(method, path);
     route_patterns_.emplace_back(method, std::regex(pattern));
     if (method == "GET") http.Get(pattern, std::move(handler));

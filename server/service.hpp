@@ -26,6 +26,10 @@
 #include <regex>
 #include <vector>
 
+namespace triax::protocol {
+struct ImportedPacking;
+}
+
 namespace triax::service {
 
 struct ServiceConfig {
@@ -88,7 +92,9 @@ public:
 
     // Registers a handler and records (method, OpenAPI path) so a test can check the
     // routes against schema/openapi.json; "([^/]+)" in the pattern is "{id}" there.
-    void route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler);
+    // `described`: the OpenAPI path when a capture is not an {id} (e.g. "/runs/{id}/snapshots/{stage}").
+    void route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler,
+               const std::string& described = "");
     std::vector<std::pair<std::string, std::string>> routes;
     // Open SSE streams, capped at config.max_event_streams (503 beyond).
     StreamLimiter event_streams;
@@ -118,11 +124,15 @@ void register_comparison_routes(Service& s);
 void register_diagnosis_routes(Service& s);
 // Start-up: fills datasets.header_json for rows stored without it; returns how many.
 int backfill_dataset_headers(Service& s);
+void register_snapshot_routes(Service& s);
+void register_packing_routes(Service& s);
 
 // Shared helper of scheme and run routes: validates a scheme document (JSON Schema, then
 // the engine's own checks and the service limits) and stores it; returns {"id","scheme"}.
 nlohmann::json store_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
 // A stored dataset (404 if unknown); `name` receives its name when not null.
 diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name);
+// A stored packing (404 naming /packing_id if unknown).
+protocol::ImportedPacking load_packing(Service& s, std::int64_t id);
 
 }  // namespace triax::service
