@@ -67,9 +67,15 @@ void Service::register_routes() {
     // The pre-routing handler runs before the body is read, so stating the empty length
     // here makes it read nothing. The Request is a non-const local of httplib's connection
     // loop, so writing through the const reference is defined.
-    http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response&) {
+    http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
         if (!req.has_header("Content-Length") && !req.has_header("Transfer-Encoding"))
             const_cast<httplib::Request&>(req).headers.emplace("Content-Length", "0");
+        // Static files are looked up before the routes: the web directory's npm tree is
+        // hidden here (the page gets its packages from /vendor/).
+        if (is_private_web_path(req.path)) {
+            send_problem(res, not_found("no route for " + req.method + " " + req.path), req.path);
+            return httplib::Server::HandlerResponse::Handled;
+        }
         return httplib::Server::HandlerResponse::Unhandled;
     });
     http.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr ep) {
