@@ -5,6 +5,7 @@
 
 #include "engine/core/types.hpp"
 #include "engine/protocol/gradation.hpp"
+#include "engine/protocol/specimen_budget.hpp"
 
 namespace triax::protocol {
 
@@ -97,6 +98,9 @@ void TestScheme::validate() const {
             "loading.consolidation_tolerance", "must be in (0, 0.5)");
     require(threads >= 1 && threads <= 256, "threads", "must be in [1, 256]");
     require(max_particles >= 0, "max_particles", "must be >= 0");
+    // Size of the specimen before anything is drawn (specimen_budget.hpp), whatever
+    // max_particles says: the builder draws the uncapped gradation first.
+    check_specimen_budget(*this);
 }
 
 }  // namespace triax::protocol
