@@ -111,6 +111,7 @@ void Service::register_routes() {
     register_dataset_routes(*this);
     register_comparison_routes(*this);
     register_diagnosis_routes(*this);
+    register_estimate_routes(*this);
 }
 
 void Service::route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler) {

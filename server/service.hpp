@@ -3,6 +3,7 @@
 // service and the HTTP server with every route. main.cpp only parses flags and calls
 // start(); the end-to-end tests start it in-process on an ephemeral port.
 #include "engine/diagnose/lab_data.hpp"
+#include "engine/protocol/test_scheme.hpp"
 #include "server/events/event_log.hpp"
 #include "server/io/json_schema_validator.hpp"
 #include "server/jobs/job_queue.hpp"
@@ -98,11 +99,14 @@ void register_result_routes(Service& s);
 void register_dataset_routes(Service& s);
 void register_comparison_routes(Service& s);
 void register_diagnosis_routes(Service& s);
+void register_estimate_routes(Service& s);
 int recover_interrupted_diagnoses(Service& s);
 
 // Shared helper of scheme and run routes: validates a scheme document (JSON Schema, then
 // the engine's own checks and the service limits) and stores it; returns {"id","scheme"}.
 nlohmann::json store_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
+// The same checks without storing: the parsed scheme (POST /estimate).
+protocol::TestScheme validated_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
 // A stored dataset (404 if unknown); `name` receives its name when not null.
 diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name);
 

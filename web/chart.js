@@ -42,6 +42,8 @@ function zoomPanPlugin(chart) {
     hooks: {
       ready: u => {
         const over = u.over;
+        // uPlot's double-click shows everything again: live data then rescales as well.
+        over.addEventListener('dblclick', () => { chart.zoomed = false; });
         over.addEventListener('wheel', e => {
           e.preventDefault();
           const f = e.deltaY < 0 ? 0.8 : 1.25;
@@ -142,6 +144,7 @@ export class Chart {
     this.empty.textContent = 'waiting for data…';
     this.root.append(bar, this.body, this.empty);
     container.appendChild(this.root);
+    this.root.chart = this; // the browser test reads the series and scales through the figure
     this.root.dataset.points = '0';
     this.root.dataset.series = '0';
     this.root.dataset.visible = '0';
@@ -223,6 +226,7 @@ export class Chart {
     return {
       ...this.size(),
       plugins: [zoomPanPlugin(this)],
+      hooks: { setSelect: [u => { if (u.select.width > 0) this.zoomed = true; }] },
       cursor: {
         drag: { x: true, y: true, uni: 20 },
         hover: { skip: [null, undefined], prox: Infinity },
@@ -286,8 +290,6 @@ export class Chart {
       canvas.setAttribute('role', 'img');
       canvas.setAttribute('aria-label', `${this.options.title || 'plot'}: ${this.options.yLabel || 'y'} against ${this.options.xLabel || 'x'}` +
         (list.length ? `; series ${list.map(s => s.name).join(', ')}` : ''));
-      this.u.hooks.setSelect = this.u.hooks.setSelect || [];
-      this.u.hooks.setSelect.push(() => { this.zoomed = true; });
       return;
     }
     if (resetZoom) this.zoomed = false;

@@ -215,7 +215,10 @@ void register_diagnosis_routes(Service& s) {
             auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
             st.bind_all(id);
             if (!st.step()) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
-            return diagnosis_json(st);
+            // The scheme diagnosed (the page's "run with these parameters" starts from it).
+            auto d = diagnosis_json(st);
+            d["scheme"] = json::parse(st.text(8)).value("scheme", json(nullptr));
+            return d;
         }));
     });
     s.route("POST", R"(/diagnoses/([^/]+)/cancel)", [&s](const httplib::Request& req, httplib::Response& res) {
