@@ -32,11 +32,12 @@ function presetCard(p, onpick) {
   const days = (sc.loading?.stage_durations_min || []).reduce((a, b) => a + b, 0) / 1440;
   return el('button', { type: 'button', class: 'preset card-button', dataset: { preset: p.name }, 'aria-pressed': 'false', onclick: () => onpick(p.name) },
     el('span', { class: 'preset-name' }, `Group ${p.name}`),
-    el('span', { class: 'preset-facts' }, `σ3 = ${sigma3} kPa · w = ${w} %`),
+    el('span', { class: 'preset-facts' }, `σ3 = ${tidy(sigma3)} kPa · w = ${tidy(w)} %`),
     el('span', { class: 'preset-role' }, GROUP_ROLE[p.name] || p.description || ''),
     el('span', { class: 'hint' }, `S = ${levels}${days ? ` · ${Number(days.toFixed(1))} days of creep` : ''}`));
 }
 
+const tidy = v => (typeof v === 'number' ? Number(v.toPrecision(10)) : v);
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
 
 async function showNewRun() {
@@ -95,7 +96,8 @@ async function showNewRun() {
       estimate.replaceChildren(
         el('div', { class: 'estimate-line' }, el('strong', {}, 'Estimate: '),
           `≈ ${e.grains.toLocaleString('en')} grains + ${e.membrane_particles.toLocaleString('en')} membrane particles · ` +
-          `≈ ${Number(e.steps).toLocaleString('en')} steps · ${minutesText(m.low)} – ${minutesText(m.high)} (typically ${minutesText(m.typical)})`),
+          `≈ ${Number(e.steps).toLocaleString('en')} steps · ${minutesText(m.low)} – ${minutesText(m.high)} on this machine` +
+          ` (at most ${minutesText(m.cap)} if every phase runs to its step cap)`),
         ...(e.warnings || []).map(w => el('div', { class: 'estimate-warning' }, `⚠ ${w}`)));
     } catch (err) {
       if (seq !== estimateSeq) return;

@@ -139,8 +139,8 @@ export class DiagnosisView {
         const e = await postJSON('/estimate', scheme);
         const m = e.minutes_estimate;
         parts.push(` · each ≈ ${e.grains} grains, ${minutesText(m.low)}–${minutesText(m.high)}`,
-          ` · in all about ${minutesText(m.typical * runsAtLeast)} – ${minutesText(m.high * runsUpTo)}`);
-        this.cost.dataset.minutesLow = String(m.typical * runsAtLeast);
+          ` · in all about ${minutesText(m.low * runsAtLeast)} – ${minutesText(m.high * runsUpTo)}`);
+        this.cost.dataset.minutesLow = String(m.low * runsAtLeast);
       } catch (err) { parts.push(` · minutes unknown: ${err.message}`); }
     }
     this.cost.replaceChildren(...parts);

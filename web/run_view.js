@@ -16,6 +16,8 @@ const SERIES_CSV = [
 ];
 const fmt = (v, d = 3) => (v == null || !Number.isFinite(Number(v)) ? '—' : Number(v).toFixed(d));
 const col = (columns, name) => columns.indexOf(name);
+// Binary floating-point noise off (8.899999999999999 -> 8.9) for display.
+const tidy = v => (typeof v === 'number' ? Number(v.toPrecision(10)) : v);
 
 export class RunView {
   constructor(container, runId) {
@@ -36,8 +38,8 @@ export class RunView {
     const s = this.scheme, r = this.run || {};
     const parts = [`run #${this.id}${r.name ? ' ' + r.name : ''}`];
     if (s) {
-      parts.push(`σ3 = ${s.loading?.confining_pressure_kPa} kPa`);
-      if (s.specimen) parts.push(`w = ${s.specimen.moisture_content_pct} %`, `specimen ${s.specimen.diameter_mm} × ${s.specimen.height_mm} mm`);
+      parts.push(`σ3 = ${tidy(s.loading?.confining_pressure_kPa)} kPa`);
+      if (s.specimen) parts.push(`w = ${tidy(s.specimen.moisture_content_pct)} %`, `specimen ${tidy(s.specimen.diameter_mm)} × ${tidy(s.specimen.height_mm)} mm`);
       if (s.loading?.stress_levels) parts.push(`S = ${s.loading.stress_levels.join('/')}`);
     }
     return parts.join(' · ');
@@ -78,8 +80,8 @@ export class RunView {
     // the steady rate, the log plot the primary (log-time) part. Each stage from its own
     // origin (coordinate translation, as GET /runs/{id}/results/creep?stage=k): time from
     // its load step, deformation from the level before it; the log axis leaves out t = 0.
-    this.creepPlot = mk({ id: 'plot-creep', title: 'Creep per stage, linear time (each stage from t = 0)', xLabel: 'time since stage start (min)', yLabel: 'axial deformation since stage load (mm)', xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep` });
-    this.creepLogPlot = mk({ id: 'plot-creep-log', title: 'Creep per stage, log time (each stage from t = 0)', xLabel: 'time since stage start (min, log)', yLabel: 'axial deformation since stage load (mm)', xLog: true, xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep_log` });
+    this.creepPlot = mk({ id: 'plot-creep', title: 'Creep per stage, linear time (each stage from t = 0)', xLabel: 'time since stage start (min)', yLabel: 'deformation since stage load (mm)', xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep` });
+    this.creepLogPlot = mk({ id: 'plot-creep-log', title: 'Creep per stage, log time (each stage from t = 0)', xLabel: 'time since stage start (min, log)', yLabel: 'deformation since stage load (mm)', xLog: true, xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep_log` });
     this.energyPlot = mk({ id: 'plot-energy', title: 'Energies', xLabel: 'mechanical step (cumulative over phases)', yLabel: 'energy (J)', fileName: `run${id}_energies` });
     this.measurePlot = mk({ id: 'plot-measure', title: 'Measurement spheres', xLabel: 'mechanical step', yLabel: axisLabel(MEASURE_KEYS[0]), fileName: `run${id}_measurements` });
     this.measureKey = MEASURE_KEYS[0];
@@ -195,19 +197,25 @@ export class RunView {
     } catch (e) { this.header.replaceChildren(el('span', { class: 'error' }, e.message)); }
   }
 
-  showShear(d) {
-    const sigma3 = d.sigma3_kPa ?? (d.p_kPa != null && d.q_kPa != null ? d.p_kPa - d.q_kPa / 3 : null);
-    this.readout.replaceChildren(
-      el('span', { class: 'readout-phase' }, 'shear'),
-      ...[['εa', d.axial_strain_pct, '%', 3], ['q', d.q_kPa, 'kPa', 1], ["p'", d.p_kPa, 'kPa', 1], ['εv', d.volumetric_strain_pct, '%', 3], ['σ3', sigma3, 'kPa', 1]]
-        .map(([k, v, u, n]) => el('span', { class: 'readout-item', dataset: { key: k } }, el('b', {}, k), ` ${fmt(v, n)} ${u}`)));
-  }
-
-  showCreep(stage, t, dmm, pct) {
-    this.readout.replaceChildren(
-      el('span', { class: 'readout-phase' }, `creep stage ${stage}${this.stageLevels[stage] != null ? ` (S = ${this.stageLevels[stage]})` : ''}`),
-      ...[['t', t, 'min', 2], ['Δ deformation', dmm, 'mm', 4], ['εa', pct, '%', 3]]
-        .map(([k, v, u, n]) => el('span', { class: 'readout-item', dataset: { key: k } }, el('b', {}, k), ` ${fmt(v, n)} ${u}`)));
+  // The last shear reading (εa, q, p', εv) stays in view; in creep the stage's reading
+  // (time and deformation from its origin, and the stage's q) follows it.
+  showReadout() {
+    const item = ([k, v, u, n]) => el('span', { class: 'readout-item', dataset: { key: k } }, el('b', {}, k), ` ${fmt(v, n)} ${u}`);
+    const parts = [];
+    const d = this.lastShear;
+    if (d) {
+      const sigma3 = d.p_kPa != null && d.q_kPa != null ? d.p_kPa - d.q_kPa / 3 : null;
+      parts.push(el('div', { class: 'readout-group', id: 'readout-shear' }, el('span', { class: 'readout-phase' }, this.lastCreepReading ? 'shear test (end)' : 'shear'),
+        ...[['εa', d.axial_strain_pct, '%', 3], ['q', d.q_kPa, 'kPa', 1], ["p'", d.p_kPa, 'kPa', 1], ['εv', d.volumetric_strain_pct, '%', 3], ['σ3', sigma3, 'kPa', 1]].map(item)));
+    }
+    const c = this.lastCreepReading;
+    if (c) {
+      const q = this.stageInfo?.q_target_kPa;
+      parts.push(el('div', { class: 'readout-group', id: 'readout-creep' },
+        el('span', { class: 'readout-phase' }, `creep stage ${c.stage}${this.stageLevels[c.stage] != null ? ` (S = ${this.stageLevels[c.stage]})` : ''}`),
+        ...[['t', c.t, 'min', 2], ['Δ deformation', c.d, 'mm', 4], ['εa', c.pct, '%', 3], ['q', q, 'kPa', 1]].map(item)));
+    }
+    if (parts.length) this.readout.replaceChildren(...parts);
   }
 
   connect() {
@@ -233,7 +241,8 @@ export class RunView {
       this.qPlot.append('q model', d.axial_strain_pct, d.q_kPa);
       this.vPlot.append('εv model', d.axial_strain_pct, d.volumetric_strain_pct);
       this.pqPlot.append('model', d.p_kPa, d.q_kPa);
-      this.showShear(d);
+      this.lastShear = d;
+      this.showReadout();
     });
     // Raw creep readings are cumulative over the stages; each stage is drawn from its own
     // origin: t - t_k (t_k its first reading, right after its load step) and d - d_before
@@ -250,7 +259,8 @@ export class RunView {
       const name = `stage ${k}${this.stageLevels[k] != null ? ` (S = ${this.stageLevels[k]})` : ''}`;
       this.creepPlot.append(name, t, dd);
       this.creepLogPlot.append(name, t, dd);
-      this.showCreep(k, t, dd, d.axial_strain_pct);
+      this.lastCreepReading = { stage: k, t, d: dd, pct: d.axial_strain_pct };
+      this.showReadout();
     });
     // Step counters may restart with each phase; keep the x axis cumulative.
     let stepOffset = 0, lastStep = -Infinity;

@@ -42,10 +42,11 @@ export class SpecimenView {
     this.vtkLink = el('a', { id: 'specimen-vtk', href: '#', download: '' }, 'VTK download');
     this.info = el('div', { class: 'hint', id: 'specimen-info', 'aria-live': 'polite' }, 'loading particle snapshots…');
     this.legend = el('div', { class: 'specimen-legend', id: 'specimen-legend' });
-    this.canvasBox = el('div', { class: 'specimen-canvas', id: 'specimen-canvas-box' });
+    this.canvasBox = el('div', { class: 'specimen-canvas', id: 'specimen-canvas-box', hidden: true });
+    this.tools = null;
     this.container.replaceChildren(
       el('h3', {}, 'Specimen in 3D'),
-      el('div', { class: 'row toolbar' },
+      this.tools = el('div', { class: 'row toolbar', hidden: true },
         el('label', {}, 'snapshot ', this.stageSelect),
         el('label', {}, 'colour by ', this.colourSelect),
         el('label', {}, this.membraneBox, ' membrane'),
@@ -74,6 +75,8 @@ export class SpecimenView {
       return el('option', { value: stage }, s.label || s.phase || `stage ${stage}`);
     }));
     this.stageSelect.value = String(snaps[snaps.length - 1].stage ?? snaps[snaps.length - 1]);
+    this.tools.hidden = false;
+    this.canvasBox.hidden = false;
     this.show(this.stageSelect.value);
   }
 

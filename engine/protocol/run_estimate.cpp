@@ -84,7 +84,11 @@ RunEstimate estimate_run(const TestScheme& s) {
     const double m_dt = rho_s * 4.0 / 3.0 * kPi * r_dt * r_dt * r_dt;
     e.time_step_s = 0.5 * std::sqrt(m_dt / kn);
 
-    e.consolidation = {kConsolidationMinSteps, kConsolidationTypicalSteps, kConsolidationMaxSteps};
+    const double g = static_cast<double>(std::max<long long>(1, e.size.grains));
+    const double w = std::clamp(std::log(g / 300.0) / std::log(1000.0 / 300.0), 0.0, 1.0);
+    const auto consolidation_typical = static_cast<long long>(
+        std::exp((1.0 - w) * std::log(double(kConsolidationSmallSpecimenSteps)) + w * std::log(double(kConsolidationLargeSpecimenSteps))));
+    e.consolidation = {kConsolidationMinSteps, consolidation_typical, kConsolidationMaxSteps};
     const double p0 = std::max(s.loading.confining_pressure_pa, 1.0);
     const double rate = kInertialTarget * std::sqrt(p0 / rho_s) / (2.0 * r.mean);
     const auto shear = static_cast<long long>(std::ceil(s.loading.max_axial_strain / (rate * e.time_step_s)));
@@ -104,14 +108,15 @@ RunEstimate estimate_run(const TestScheme& s) {
     e.total = {e.consolidation.low + e.shear.low + e.creep.low, e.consolidation.typical + e.shear.typical + e.creep.typical,
                e.consolidation.high + e.shear.high + e.creep.high};
 
-    // The threads share the particle loops; two threads do not halve the time (about 1.6x).
+    // The threads share the particle loops; two threads do not halve the time.
     const double particles = static_cast<double>(e.size.grains + e.size.membrane_particles);
-    const double speedup = s.threads > 1 ? std::min<double>(s.threads, 1.0 + 0.6 * (s.threads - 1)) : 1.0;
+    const double speedup = s.threads > 1 ? std::min<double>(s.threads, 1.0 + (kTwoThreadSpeedup - 1.0) * (s.threads - 1)) : 1.0;
     const double per_step_low = particles * kSecondsPerParticleStepLow / speedup / 60.0;
     const double per_step_high = particles * kSecondsPerParticleStepHigh / speedup / 60.0;
-    e.minutes_low = static_cast<double>(e.total.low) * per_step_low;
+    e.minutes_low = static_cast<double>(e.total.typical) * per_step_low;
     e.minutes_typical = static_cast<double>(e.total.typical) * 0.5 * (per_step_low + per_step_high);
-    e.minutes_high = static_cast<double>(e.total.high) * per_step_high;
+    e.minutes_high = static_cast<double>(e.total.typical) * per_step_high;
+    e.minutes_cap = static_cast<double>(e.total.high) * per_step_high;
 
     const double d_ratio = s.specimen.diameter_m / (2.0 * r.max);
     if (d_ratio < 6.0)

@@ -36,7 +36,8 @@ void register_estimate_routes(Service& s) {
                         {"steps_by_phase", {{"consolidation", steps(e.consolidation)}, {"shear", steps(e.shear)},
                                             {"creep", steps(e.creep)}, {"total", steps(e.total)}}},
                         {"creep_increments", e.creep_increments},
-                        {"minutes_estimate", {{"low", e.minutes_low}, {"typical", e.minutes_typical}, {"high", e.minutes_high}}},
+                        {"minutes_estimate", {{"low", e.minutes_low}, {"typical", e.minutes_typical}, {"high", e.minutes_high},
+                                              {"cap", e.minutes_cap}}},
                         {"warnings", e.warnings}});
     });
 }
