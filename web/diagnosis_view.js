@@ -238,7 +238,7 @@ export class DiagnosisView {
   }
 
   paramText(ps) {
-    return (ps || []).map(p => { const l = labValue(p, this.scheme); return `${l.label} = ${num(l.value)} ${l.unit}`.trim(); }).join('; ');
+    return (ps || []).map(p => { const l = labValue(p, this.scheme); return `${l.label} = ${num(l.value)}${l.unit && l.unit !== '–' && l.unit !== '×' ? ' ' + l.unit : ''}`; }).join('; ');
   }
 
   showProgress(status, stage, pct, eta) {

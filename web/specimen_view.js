@@ -28,6 +28,7 @@ export class SpecimenView {
     this.container = container;
     this.id = runId;
     this.closed = false;
+    container.specimen = this; // the browser test times frames through the card
     this.build();
     this.load();
   }
@@ -150,8 +151,9 @@ export class SpecimenView {
       else if (g === grainGroup || membraneGroup == null) grains.push(i);
     }
     this.grainIndex = grains;
-    // Low-polygon spheres: 5k instances of 12 x 8 segments stay well within one draw call.
-    const sphere = new THREE.SphereGeometry(1, 16, 10);
+    // Low-polygon spheres (12 x 8 segments, 192 triangles): 5k grains are one draw call of
+    // about a million triangles; the membrane coarser still (8 x 6).
+    const sphere = new THREE.SphereGeometry(1, 12, 8);
     const m = new THREE.Matrix4(), q = new THREE.Quaternion(), v = new THREE.Vector3(), sc = new THREE.Vector3();
     const place = (mesh, list) => list.forEach((i, k) => {
       const r = p.radius_mm[i];
@@ -161,7 +163,7 @@ export class SpecimenView {
     place(this.grainMesh, grains);
     this.objects.push(this.grainMesh);
     if (membrane.length) {
-      this.membraneMesh = new THREE.InstancedMesh(sphere.clone(), new THREE.MeshLambertMaterial({ color: 0x8a9bb0, transparent: true, opacity: 0.25, depthWrite: false }), membrane.length);
+      this.membraneMesh = new THREE.InstancedMesh(new THREE.SphereGeometry(1, 8, 6), new THREE.MeshLambertMaterial({ color: 0x8a9bb0, transparent: true, opacity: 0.25, depthWrite: false }), membrane.length);
       place(this.membraneMesh, membrane);
       this.objects.push(this.membraneMesh);
     } else this.membraneMesh = null;
@@ -208,7 +210,10 @@ export class SpecimenView {
     }
     const hgt = zmax - zmin, cz = 0.5 * (zmin + zmax);
     if (!this.framed) {
-      this.camera.position.set(rmax * 3.2, cz + hgt * 0.45, rmax * 3.2);
+      // Far enough that the whole height fits the vertical field of view, with a margin.
+      const fit = 1.3 * (0.5 * hgt + rmax) / Math.tan(0.5 * this.camera.fov * Math.PI / 180) + rmax;
+      const dist = Math.max(3 * rmax, fit) / Math.SQRT2;
+      this.camera.position.set(dist, cz + 0.25 * hgt, dist);
       this.controls.target.set(0, cz, 0);
       this.controls.update();
       this.framed = true;
