@@ -96,7 +96,7 @@ async function showNewRun() {
       estimate.replaceChildren(
         el('div', { class: 'estimate-line' }, el('strong', {}, 'Estimate: '),
           `≈ ${e.grains.toLocaleString('en')} grains + ${e.membrane_particles.toLocaleString('en')} membrane particles · ` +
-          `≈ ${Number(e.steps).toLocaleString('en')} steps · ${minutesText(m.low)} – ${minutesText(m.high)} on this machine` +
+          `≈ ${Number(e.steps).toLocaleString('en')} steps · ${minutesText(m.low) === minutesText(m.high) ? minutesText(m.low) : `${minutesText(m.low)} – ${minutesText(m.high)}`} on this machine` +
           ` (at most ${minutesText(m.cap)} if every phase runs to its step cap)`),
         ...(e.warnings || []).map(w => el('div', { class: 'estimate-warning' }, `⚠ ${w}`)));
     } catch (err) {

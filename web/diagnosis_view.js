@@ -68,6 +68,7 @@ export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed
 const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1 };
 
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
+const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);
 
 export class DiagnosisView {
   constructor(container) {
@@ -138,8 +139,8 @@ export class DiagnosisView {
         if (mp > 0) scheme.max_particles = mp;
         const e = await postJSON('/estimate', scheme);
         const m = e.minutes_estimate;
-        parts.push(` · each ≈ ${e.grains} grains, ${minutesText(m.low)}–${minutesText(m.high)}`,
-          ` · in all about ${minutesText(m.low * runsAtLeast)} – ${minutesText(m.high * runsUpTo)}`);
+        parts.push(` · each ≈ ${e.grains} grains, ${rangeText(m.low, m.high)}`,
+          ` · in all about ${rangeText(m.low * runsAtLeast, m.high * runsUpTo)}`);
         this.cost.dataset.minutesLow = String(m.low * runsAtLeast);
       } catch (err) { parts.push(` · minutes unknown: ${err.message}`); }
     }
