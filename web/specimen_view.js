@@ -211,7 +211,7 @@ export class SpecimenView {
     const hgt = zmax - zmin, cz = 0.5 * (zmin + zmax);
     if (!this.framed) {
       // Far enough that the whole height fits the vertical field of view, with a margin.
-      const fit = 1.3 * (0.5 * hgt + rmax) / Math.tan(0.5 * this.camera.fov * Math.PI / 180) + rmax;
+      const fit = 1.15 * (0.5 * hgt) / Math.tan(0.5 * this.camera.fov * Math.PI / 180) + rmax;
       const dist = Math.max(3 * rmax, fit) / Math.SQRT2;
       this.camera.position.set(dist, cz + 0.25 * hgt, dist);
       this.controls.target.set(0, cz, 0);
