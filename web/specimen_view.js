@@ -69,11 +69,12 @@ export class SpecimenView {
       this.container.dataset.state = 'unavailable';
       return;
     }
-    const snaps = Array.isArray(list) ? list : list.snapshots || [];
+    // {"run_id", "items": [{"stage": "shear", "grains", "membrane_particles", "contacts"}]}
+    const snaps = Array.isArray(list) ? list : list.items || list.snapshots || [];
     if (!snaps.length) { this.info.textContent = 'No particle snapshot was stored for this run.'; this.container.dataset.state = 'empty'; return; }
     this.stageSelect.replaceChildren(...snaps.map(s => {
       const stage = s.stage ?? s;
-      return el('option', { value: stage }, s.label || s.phase || `stage ${stage}`);
+      return el('option', { value: stage }, `${s.label || `end of ${stage}`}${s.grains != null ? ` (${s.grains} grains, ${s.contacts ?? '?'} contacts)` : ''}`);
     }));
     this.stageSelect.value = String(snaps[snaps.length - 1].stage ?? snaps[snaps.length - 1]);
     this.tools.hidden = false;
@@ -122,11 +123,12 @@ export class SpecimenView {
 
   async show(stage) {
     this.info.textContent = `loading snapshot ${stage}…`;
-    this.vtkLink.href = `/runs/${this.id}/snapshots/${stage}?format=vtk`;
+    const at = encodeURIComponent(stage);
+    this.vtkLink.href = `/runs/${this.id}/snapshots/${at}?format=vtk`;
     this.vtkLink.setAttribute('download', `run${this.id}_stage${stage}.vtk`);
     let snap;
     try {
-      [snap] = await Promise.all([getJSON(`/runs/${this.id}/snapshots/${stage}?format=json`), this.ensureScene()]);
+      [snap] = await Promise.all([getJSON(`/runs/${this.id}/snapshots/${at}?format=json`), this.ensureScene()]);
     } catch (e) { this.info.textContent = `snapshot ${stage}: ${e.message}`; return; }
     if (this.closed) return;
     this.snap = snap;

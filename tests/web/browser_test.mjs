@@ -67,9 +67,35 @@ function fixtureSnapshot(nGrains, nMembrane) {
   }
   const c = { i: [], j: [], normal_force_N: [], shear_force_N: [], bonded: [] };
   for (let i = 0; i + 1 < nGrains; i++) { c.i.push(i); c.j.push(i + 1); c.normal_force_N.push(10 + (i % 23) * (i % 5)); c.shear_force_N.push(1); c.bonded.push(i % 3 === 0 ? 1 : 0); }
-  return { stage: 1, particles: p, groups: { 0: 'grain', 1: 'membrane' }, contacts: c,
+  return { stage: 'shear', particles: p, groups: { 0: 'grain', 1: 'membrane' }, contacts: c,
     measurement_spheres: [-60, 0, 60].map(z => ({ center_mm: [0, 0, z], radius_mm: 20 })) };
 }
+
+// The 3D card's canvas: share of drawn (non-white) pixels and the time of two orbit frames.
+const viewerPixels = page => page.evaluate(async () => {
+  const card = document.querySelector('#specimen-card'), v = card.specimen;
+  if (!v?.renderer) return { ok: false };
+  const c = v.renderer.domElement;
+  v.renderer.render(v.scene, v.camera);
+  const probe = document.createElement('canvas');
+  probe.width = c.width; probe.height = c.height;
+  const ctx = probe.getContext('2d');
+  ctx.drawImage(c, 0, 0);
+  const px = ctx.getImageData(0, 0, c.width, c.height).data;
+  let coloured = 0;
+  for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) coloured++;
+  // Two orbit frames, each rendered and finished (readPixels waits for the GPU): logged,
+  // not asserted (software WebGL here; the figure says nothing about a GPU).
+  const gl = v.renderer.getContext(), one = new Uint8Array(4);
+  const t0 = performance.now();
+  for (let k = 0; k < 2; k++) {
+    v.camera.position.applyAxisAngle(new v.THREE.Vector3(0, 1, 0), 0.05);
+    v.camera.lookAt(v.controls.target);
+    v.renderer.render(v.scene, v.camera);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+  }
+  return { ok: true, share: coloured / (px.length / 4), ms: (performance.now() - t0) / 2, grains: Number(card.dataset.grains), chains: v.chainCount };
+});
 
 let failures = 0;
 const log = (...a) => console.log('[browser-test]', ...a);
@@ -387,40 +413,31 @@ try {
   const csvLines = fs.readFileSync(csvPath, 'utf8').trim().split('\n');
   check(/kPa/.test(csvLines[0]) && csvLines.length === counts['plot-q'] + 1, `CSV export has a unit header and every point (${csvLines.length - 1} rows)`);
 
+  if (specimenState === 'shown') {
+    // The finished run's own snapshot: a non-empty image, and the VTK download parses.
+    const view = await viewerPixels(page);
+    log('3D viewer on the run:', JSON.stringify(view));
+    check(view.ok && view.grains > 0 && view.share > 0.01, `the 3D canvas renders a non-empty image of run ${runId} (${(100 * (view.share || 0)).toFixed(1)} % of pixels drawn, ${view.grains} grains)`);
+    const href = await page.getAttribute('#specimen-vtk', 'href');
+    const vtk = await (await fetch(new URL(href, base))).text();
+    const vtkPoints = Number((vtk.match(/^POINTS (\d+)/m) || [])[1]);
+    const snapJson = await (await fetch(new URL(href.replace('format=vtk', 'format=json'), base))).json();
+    check(/^# vtk DataFile Version/.test(vtk) && vtkPoints === snapJson.particles.x_mm.length,
+      `the VTK download is legacy VTK with every particle as a point (${vtkPoints} points, ${snapJson.particles.x_mm.length} in the JSON)`);
+    await page.locator('#specimen-card').scrollIntoViewIfNeeded();
+    await page.screenshot({ path: path.join(shots, '03b_specimen_3d_1440.png') });
+  }
   if (specimenState !== 'shown') {
     // The viewer itself on 5,000 grains + 2,000 membrane spheres in the documented snapshot
     // shape (docs/web.md), answered by page.route while the service stores no snapshots:
     // a non-empty image and the frame time of an orbit.
     const snap = fixtureSnapshot(5000, 2000);
-    await page.route(u => new URL(u).pathname === `/runs/${runId}/snapshots`, r => r.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify({ snapshots: [{ stage: 1, label: 'end of shear' }] }) }));
-    await page.route(u => new URL(u).pathname === `/runs/${runId}/snapshots/1`, r => r.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify(snap) }));
+    await page.route(u => new URL(u).pathname === `/runs/${runId}/snapshots`, r => r.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify({ run_id: runId, items: [{ stage: 'shear', grains: 5000, membrane_particles: 2000, contacts: 4999 }] }) }));
+    await page.route(u => new URL(u).pathname === `/runs/${runId}/snapshots/shear`, r => r.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify(snap) }));
     await page.reload();
     await page.waitForFunction(() => document.querySelector('#specimen-card')?.dataset.state === 'shown', null, { timeout: 30000 }).catch(() => {});
     await nextFrame(page);
-    const view = await page.evaluate(async () => {
-      const card = document.querySelector('#specimen-card'), v = card.specimen;
-      if (!v?.renderer) return { ok: false };
-      const c = v.renderer.domElement;
-      v.renderer.render(v.scene, v.camera);
-      const probe = document.createElement('canvas');
-      probe.width = c.width; probe.height = c.height;
-      const ctx = probe.getContext('2d');
-      ctx.drawImage(c, 0, 0);
-      const px = ctx.getImageData(0, 0, c.width, c.height).data;
-      let coloured = 0;
-      for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) coloured++;
-      // Two orbit frames, each rendered and finished (readPixels waits for the GPU): logged,
-      // not asserted (software WebGL here; the figure says nothing about a GPU).
-      const gl = v.renderer.getContext(), one = new Uint8Array(4);
-      const t0 = performance.now();
-      for (let k = 0; k < 2; k++) {
-        v.camera.position.applyAxisAngle(new v.THREE.Vector3(0, 1, 0), 0.05);
-        v.camera.lookAt(v.controls.target);
-        v.renderer.render(v.scene, v.camera);
-        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
-      }
-      return { ok: true, share: coloured / (px.length / 4), ms: (performance.now() - t0) / 2, grains: Number(card.dataset.grains), chains: v.chainCount };
-    });
+    const view = await viewerPixels(page);
     log('3D viewer on the 5k fixture:', JSON.stringify(view));
     check(view.ok && view.grains === 5000 && view.share > 0.05, `the 3D canvas renders a non-empty image of 5,000 grains (${(100 * (view.share || 0)).toFixed(1)} % of pixels drawn, ${view.chains} strong chains)`);
     await page.selectOption('#specimen-colour', 'crushed');
