@@ -10,7 +10,7 @@ pkgs=(build-essential cmake pkg-config libeigen3-dev libcpp-httplib-dev nlohmann
 # npm fetches the page's packages (uplot, three) for every install, the service's too.
 command -v node >/dev/null 2>&1 || pkgs+=(nodejs)
 command -v npm >/dev/null 2>&1 || pkgs+=(npm)
-[[ "${TRIAX_WITH_BROWSER:-1}" == 1 ]] && pkgs+=(chromium)
+if [[ "${TRIAX_WITH_BROWSER:-1}" == 1 ]]; then pkgs+=(chromium); fi
 
 missing=()
 for p in "${pkgs[@]}"; do
@@ -27,7 +27,7 @@ fi
 # The page's packages: installed again when web/package.json is newer than the install.
 if [[ ! -f "$here/web/node_modules/.package-lock.json" || "$here/web/package.json" -nt "$here/web/node_modules/.package-lock.json" ]]; then
   echo "install-deps: npm install in web" >&2
-  (cd "$here/web" && npm install --no-audit --no-fund --loglevel=error)
+  (cd "$here/web" && npm install --no-audit --no-fund --loglevel=error && touch node_modules/.package-lock.json)
 fi
 
 if [[ "${TRIAX_WITH_BROWSER:-1}" == 1 && -f "$here/tests/web/package.json" ]]; then
