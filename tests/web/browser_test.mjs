@@ -609,6 +609,14 @@ try {
   await page.waitForURL(/#\/runs\/\d+$/, { timeout: 10000 }).catch(() => {});
   const fittedRun = Number((page.url().match(/#\/runs\/(\d+)$/) || [])[1] || 0);
   if (fittedRun) await post(`/runs/${fittedRun}/cancel`, {});
+  // Another run's curves over this run's plots: the finished run's whole series, dashed.
+  await page.waitForSelector(`#overlay-run option[value="${runId}"]`, { state: 'attached', timeout: 10000 }).catch(() => {});
+  await page.selectOption('#overlay-run', String(runId)).catch(() => {});
+  await page.click('#overlay-run-add');
+  await page.waitForFunction(id => /overlaid run/.test(document.querySelector('#overlay-info')?.textContent || ''), runId, { timeout: 10000 }).catch(() => {});
+  const runOverlay = await page.$eval('#plot-q', (f, id) => f.chart.series.get(`run #${id} q`)?.points.length || 0, runId);
+  const creepOverlay = await page.$eval('#plot-creep', f => [...f.chart.series.keys()].filter(n => /^run #/.test(n)).length);
+  check(runOverlay === modelRows && creepOverlay === 2, `a finished run is overlaid on another run's plots (${runOverlay} q points, ${creepOverlay} creep stages)`);
   const fittedScheme = fittedRun ? (await (await fetch(`${base}/schemes/${(await (await fetch(`${base}/runs/${fittedRun}`)).json()).scheme_id}`)).json()).scheme : {};
   check(Math.abs((fittedScheme.micro?.normal_modulus_MPa ?? 0) - 120) < 1e-6 && fittedScheme.micro?.friction === 0.45 && fittedScheme.effects?.rolling_resistance === true,
     `"run with these parameters" submits the scheme with the fitted values (run #${fittedRun}: ${fittedScheme.micro?.normal_modulus_MPa} MPa, μ ${fittedScheme.micro?.friction}, rolling ${fittedScheme.micro?.rolling_friction})`);
