@@ -122,16 +122,20 @@ export class DiagnosisView {
     this.runSelect.addEventListener('change', recost);
   }
 
-  // Runs: the calibration budget, then per candidate effect its refinement fits, for up to
-  // max_effects steps; minutes from POST /estimate of the run's scheme (per DEM run).
+  // Runs as the diagnosis plans them (engine/diagnose/diagnosis.cpp, planned_runs_):
+  // budget + 2 (base + 2) + max_effects (effects + (max_candidates + 1) refine_runs), with
+  // the DEM model's 4 base parameters and 4 physical effects: the most it can use. The
+  // least: the calibration alone (budget + 2 (base + 2)). Minutes from POST /estimate of
+  // the run's scheme, per DEM run and lab condition.
   async estimateCost() {
     const run = this.runs.find(r => String(r.scheme_id) === this.runSelect.value);
     const budget = Number(this.fields.budget_runs.input.value);
-    const runsUpTo = budget + DEFAULTS.max_candidates * DEFAULTS.refine_runs * DEFAULTS.max_effects;
-    const runsAtLeast = budget + DEFAULTS.max_candidates * DEFAULTS.refine_runs;
+    const base = 4, physical = 4;
+    const runsAtLeast = budget + 2 * (base + 2);
+    const runsUpTo = runsAtLeast + DEFAULTS.max_effects * (physical + (DEFAULTS.max_candidates + 1) * DEFAULTS.refine_runs);
     this.cost.dataset.runsLow = String(runsAtLeast);
     this.cost.dataset.runsHigh = String(runsUpTo);
-    const parts = [el('strong', {}, 'Cost: '), `${runsAtLeast} to ${runsUpTo} DEM runs`];
+    const parts = [el('strong', {}, 'Cost: '), `${runsAtLeast} to ${runsUpTo} DEM runs per lab condition (σ3)`];
     if (run) {
       try {
         const { scheme } = await getJSON(`/schemes/${run.scheme_id}`);
