@@ -169,8 +169,8 @@ function showRuns() {
           el('td', {}, progressElement(r.stage, r.progress_pct, r.eta_s)),
           el('td', {}, r.created_at || ''),
           el('td', {}, (r.status === 'queued' || r.status === 'running')
-            ? el('button', { type: 'button', onclick: () => postJSON(`/runs/${r.id}/cancel`).then(refresh) }, 'cancel')
-            : el('button', { type: 'button', onclick: () => postJSON(`/runs/${r.id}/rerun`).then(refresh) }, 're-run')))));
+            ? el('button', { type: 'button', 'aria-label': `cancel run #${r.id}`, onclick: () => postJSON(`/runs/${r.id}/cancel`).then(refresh) }, 'cancel')
+            : el('button', { type: 'button', 'aria-label': `re-run run #${r.id}`, onclick: () => postJSON(`/runs/${r.id}/rerun`).then(refresh) }, 're-run')))));
       error.textContent = '';
     } catch (e) { error.textContent = e.message; }
     timer = setTimeout(refresh, 2000);

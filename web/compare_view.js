@@ -102,7 +102,7 @@ export class CompareView {
     this.datasetTable.replaceChildren(
       el('tr', {}, ['id', 'name', 'curves', ''].map(h => el('th', {}, h))),
       ...datasets.map(d => el('tr', {}, el('td', {}, d.id), el('td', {}, d.name || ''), el('td', {}, curveText(d)),
-        el('td', {}, el('button', { type: 'button', onclick: async () => { await del(`/datasets/${d.id}`); this.refreshLists(); } }, 'delete')))));
+        el('td', {}, el('button', { type: 'button', 'aria-label': `delete dataset #${d.id} ${d.name || ''}`.trim(), onclick: async () => { await del(`/datasets/${d.id}`); this.refreshLists(); } }, 'delete')))));
   }
 
   async upload() {
