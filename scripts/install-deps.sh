@@ -6,7 +6,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 pkgs=(build-essential cmake pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev
-      libsqlite3-dev sqlite3 catch2 libomp-dev curl)
+      libsqlite3-dev sqlite3 zlib1g-dev catch2 libomp-dev curl)
 # npm fetches the page's packages (uplot, three) for every install, the service's too.
 command -v node >/dev/null 2>&1 || pkgs+=(nodejs)
 command -v npm >/dev/null 2>&1 || pkgs+=(npm)

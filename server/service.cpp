@@ -112,11 +112,15 @@ void Service::register_routes() {
     register_comparison_routes(*this);
     register_diagnosis_routes(*this);
     register_estimate_routes(*this);
+    register_snapshot_routes(*this);
+    register_packing_routes(*this);
 }
 
-void Service::route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler) {
+void Service::route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler,
+                    const std::string& described) {
     std::string path = pattern;
     for (std::size_t at; (at = path.find("([^/]+)")) != std::string::npos;) path.replace(at, 7, "{id}");
+    if (!described.empty()) path = described;
     routes.emplace_back(method, path);
     if (method == "GET") http.Get(pattern, std::move(handler));
     else if (method == "POST") http.Post(pattern, std::move(handler));

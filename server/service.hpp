@@ -22,6 +22,10 @@
 #include <string>
 #include <thread>
 
+namespace triax::protocol {
+struct ImportedPacking;
+}
+
 namespace triax::service {
 
 struct ServiceConfig {
@@ -73,7 +77,9 @@ public:
 
     // Registers a handler and records (method, OpenAPI path) so a test can check the
     // routes against schema/openapi.json; "([^/]+)" in the pattern is "{id}" there.
-    void route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler);
+    // `described`: the OpenAPI path when a capture is not an {id} (e.g. "/runs/{id}/snapshots/{stage}").
+    void route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler,
+               const std::string& described = "");
     std::vector<std::pair<std::string, std::string>> routes;
 
     // Diagnosis jobs (diagnosis_routes.cpp): cancel flags shared with the workers.
@@ -100,6 +106,8 @@ void register_dataset_routes(Service& s);
 void register_comparison_routes(Service& s);
 void register_diagnosis_routes(Service& s);
 void register_estimate_routes(Service& s);
+void register_snapshot_routes(Service& s);
+void register_packing_routes(Service& s);
 int recover_interrupted_diagnoses(Service& s);
 
 // Shared helper of scheme and run routes: validates a scheme document (JSON Schema, then
@@ -109,5 +117,7 @@ nlohmann::json store_scheme(Service& s, const nlohmann::json& scheme, const std:
 protocol::TestScheme validated_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
 // A stored dataset (404 if unknown); `name` receives its name when not null.
 diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name);
+// A stored packing (404 naming /packing_id if unknown).
+protocol::ImportedPacking load_packing(Service& s, std::int64_t id);
 
 }  // namespace triax::service

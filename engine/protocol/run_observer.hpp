@@ -4,6 +4,7 @@
 // The default implementation ignores everything and never cancels.
 #include <string>
 
+#include "engine/protocol/specimen_snapshot.hpp"
 #include "engine/protocol/test_result.hpp"
 
 namespace triax::protocol {
@@ -37,6 +38,10 @@ public:
     virtual void energy_sample(const EnergySample&) {}
     virtual void measurement_sample(const MeasurementSample&) {}
     virtual void creep_increment(const CreepIncrementLog&) {}
+    // The specimen at the end of "generation", "consolidation", "shear" and each
+    // "creep-k" stage (specimen_snapshot.hpp). Copy what is kept: the reference is valid
+    // only during the call.
+    virtual void on_snapshot(const SpecimenSnapshot&) {}
     // Polled between increments; returning true ends the run with result.cancelled = true.
     virtual bool cancel_requested() { return false; }
 };

@@ -5,6 +5,7 @@
 
 #include "engine/creep/moisture_bond.hpp"
 #include "engine/protocol/gradation.hpp"
+#include "engine/protocol/imported_packing.hpp"
 
 namespace triax::protocol {
 
@@ -29,10 +30,16 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     // Grain density from the dry density at the target porosity: rho_d = rho_s (1 - n).
     soil_density_ = s.specimen.dry_density_kg_m3 / (1.0 - s.specimen.target_porosity);
 
+    const bool imported = s.packing != nullptr;
+    if (imported) validate_packing(*s.packing, s);
     std::mt19937_64 rng(s.seed);
     GradationSpec g = s.gradation;
-    std::vector<double> radii = draw_radii(g, solid_volume_, rng);
-    if (s.max_particles > 0 && static_cast<int>(radii.size()) > s.max_particles) {
+    std::vector<double> radii = imported ? s.packing->radius : draw_radii(g, solid_volume_, rng);
+    if (imported) {
+        solid_volume_ = 0.0;
+        for (double r : radii) solid_volume_ += 4.0 / 3.0 * kPi * r * r * r;
+    }
+    if (!imported && s.max_particles > 0 && static_cast<int>(radii.size()) > s.max_particles) {
         // Reduced specimen: the same gradation shape scaled up until the count fits.
         const double f = std::cbrt(static_cast<double>(radii.size()) / s.max_particles) * 1.02;
         g.r_min_m *= f;
@@ -61,13 +68,16 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     // Table 3 moduli (docs/parameters.md): kn = pi r_mean E_n / 2 for the mean grain.
     soil_kn_ = 0.5 * kPi * r_mean_ * s.micro.normal_modulus_pa;
 
-    // Soil placed at 60 % of final size, largest first, rejection sampling.
-    constexpr double kShrink = 0.6;
+    // Soil placed at 60 % of final size, largest first, rejection sampling (an imported
+    // packing is placed as it is, at full size).
+    const double shrink = imported ? 1.0 : 0.6;
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<Vec3> placed;
     placed.reserve(radii.size());
+    for (std::size_t q = 0; q < radii.size() && imported; ++q) placed.push_back(s.packing->position[q]);
     for (double r_full : radii) {
-        const double r = kShrink * r_full;
+        if (imported) break;
+        const double r = shrink * r_full;
         Vec3 best = Vec3::Zero();
         double best_gap = -1e9;
         for (int attempt = 0; attempt < 300; ++attempt) {
@@ -75,13 +85,13 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
             const Vec3 x(rr * std::cos(th), rr * std::sin(th), -0.5 * H + r_full + (H - 2.0 * r_full) * u(rng));
             double gap = 1e9;
             for (std::size_t q = 0; q < placed.size(); ++q)
-                gap = std::min(gap, (x - placed[q]).norm() - r - kShrink * radii[q]);
+                gap = std::min(gap, (x - placed[q]).norm() - r - shrink * radii[q]);
             if (gap > best_gap) { best_gap = gap; best = x; }
             if (gap >= 0.0) break;
         }
         placed.push_back(best);
     }
-    for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], kShrink * radii[q], soil_density_, kSoilGroup);
+    for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], shrink * radii[q], soil_density_, kSoilGroup);
 
     double rm = s.micro.membrane_particle_radius_m;
     if (rm <= 0.0) rm = boundary::automatic_membrane_radius(rmin, r_mean_, s.specimen.diameter_m);
@@ -102,15 +112,36 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     membrane_->bond(world_, 1.0e9);
     membrane_->set_fixed(world_, true);
 
-    // Radius expansion to full size, frictionless, inside the held membrane.
     auto& p = world_.particles();
+    if (imported) {
+        // An exported equilibrium state carries its residual velocities (an exact restart).
+        for (std::size_t q = 0; q < s.packing->velocity.size() && q < radii.size(); ++q) p.velocity[q] = s.packing->velocity[q];
+        for (std::size_t q = 0; q < s.packing->angular_velocity.size() && q < radii.size(); ++q)
+            p.angular_velocity[q] = s.packing->angular_velocity[q];
+        for (std::size_t k = 0; k < s.packing->platen_force_n.size() && k < 2; ++k) {
+            auto& wall = world_.plane_wall(static_cast<int>(k));
+            wall.force = -s.packing->platen_force_n[k] * wall.normal;
+        }
+        return;
+    }
+    // Radius expansion to full size, frictionless, inside the held membrane.
     constexpr int kGrowthSteps = 16;
     for (int k = 1; k <= kGrowthSteps; ++k) {
-        const double f = (kShrink + (1.0 - kShrink) * k / kGrowthSteps) / (kShrink + (1.0 - kShrink) * (k - 1) / kGrowthSteps);
+        const double f = (shrink + (1.0 - shrink) * k / kGrowthSteps) / (shrink + (1.0 - shrink) * (k - 1) / kGrowthSteps);
         for (int q = 0; q < soil_count_; ++q) {
             p.radius[q] *= f;
             p.mass[q] *= f * f * f;
             p.inertia[q] *= f * f * f * f * f;
+        }
+        if (k == kGrowthSteps) {
+            // Exactly the drawn sizes (the product of the growth factors is not, by the
+            // last bits): an exported packing re-imported is then the same specimen.
+            for (int q = 0; q < soil_count_; ++q) {
+                const double r = radii[q];
+                p.radius[q] = r;
+                p.mass[q] = soil_density_ * 4.0 / 3.0 * 3.14159265358979323846 * r * r * r;
+                p.inertia[q] = 0.4 * p.mass[q] * r * r;
+            }
         }
         world_.invalidate_neighbors();
         world_.cycle(300);
@@ -133,7 +164,9 @@ Specimen::Specimen(const Specimen& o)
       crush_force_now_(o.crush_force_now_),
       fatigue_life_scale_(o.fatigue_life_scale_),
       crushing_on_(o.crushing_on_),
-      crushing_events_(o.crushing_events_) {}
+      crushing_events_(o.crushing_events_),
+      reference_(o.reference_),
+      rotation_(o.rotation_) {}
 
 ContactLaw Specimen::soil_law(bool friction_on) const {
     ContactLaw l;
@@ -237,7 +270,10 @@ long Specimen::install_soil_bonds() {
 void Specimen::cycle(long n, double confining_pa) {
     for (long done = 0; done < n; done += kMembraneUpdateEvery) {
         membrane_->apply_pressure(world_, confining_pa);
-        world_.cycle(std::min<long>(kMembraneUpdateEvery, n - done));
+        const long m = std::min<long>(kMembraneUpdateEvery, n - done);
+        world_.cycle(m);
+        const auto& omega = world_.particles().angular_velocity;
+        for (std::size_t i = 0; i < rotation_.size(); ++i) rotation_[i] += omega[i] * (m * world_.time_step());
         if (crushing_on_) {
             const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_now_,
                                                   soil_kn_, scheme_.micro.crushing_hardening_ratio,
@@ -248,6 +284,11 @@ void Specimen::cycle(long n, double confining_pa) {
             world_.energy().breakage += c.dissipated_j;
         }
     }
+}
+
+void Specimen::mark_reference() {
+    reference_ = world_.particles().position;
+    rotation_.assign(reference_.size(), Vec3::Zero());
 }
 
 double Specimen::top_z() const { return world_.plane_wall_count() ? const_cast<World&>(world_).plane_wall(1).point.z() : 0.0; }

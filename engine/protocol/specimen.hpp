@@ -22,6 +22,9 @@ public:
     // membrane: radii drawn from the gradation fill (1 - n) of the specimen volume, are
     // placed at 60 % size without overlap (seeded), then grown to full size in steps with
     // frictionless contacts, and relaxed to equilibrium. Deterministic for scheme.seed.
+    // With scheme.packing the grains are the imported ones instead (validated against the
+    // specimen, validate_packing): no generation, the membrane and platens are built
+    // around them and the protocol runs from there.
     explicit Specimen(const TestScheme& scheme);
     // A deep copy (world and membrane): a second test on the same consolidated specimen
     // without generating and consolidating it again.
@@ -63,6 +66,13 @@ public:
     // Grain i's fatigue damage D (empty when crushing is off).
     const std::vector<double>& fatigue_damage() const { return fatigue_damage_; }
 
+    // Displacement and rotation reference: the positions now, rotations zeroed (the start
+    // of consolidation). Rotations accumulate over cycle() (omega dt at each membrane update).
+    void mark_reference();
+    const std::vector<Vec3>& reference_positions() const { return reference_; }
+    const std::vector<Vec3>& rotation() const { return rotation_; }
+    bool crushing_on() const { return crushing_on_; }
+
     double top_z() const;
     double bottom_z() const;
     double height() const { return top_z() - bottom_z(); }
@@ -95,6 +105,8 @@ private:
     std::vector<double> fatigue_life_scale_;  // (S_i / sigma0)^-2 per soil grain
     bool crushing_on_ = false;
     long crushing_events_ = 0;
+    std::vector<Vec3> reference_;  // m, positions at mark_reference() (all particles)
+    std::vector<Vec3> rotation_;   // rad, accumulated rotation vector since then
 };
 
 }  // namespace triax::protocol

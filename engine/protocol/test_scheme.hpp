@@ -3,10 +3,13 @@
 // paper. SI units inside (m, Pa, s, kg/m^3, fractions); lab units only at the JSON edge
 // (server/io/scheme_json). Defaults are the paper's (Tables 1-3, group B).
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace triax::protocol {
+
+struct ImportedPacking;
 
 // Cylindrical specimen (paper: 100 mm x 200 mm, compaction 93 % of 2.21 g/cm^3).
 struct SpecimenSpec {
@@ -203,6 +206,9 @@ struct TestScheme {
     int threads = 1;
     // Reduced runs for tests: cap of soil particles (0 = no cap: the gradation decides).
     int max_particles = 0;
+    // Grains made elsewhere (imported_packing.hpp): when set, they are the specimen and
+    // the gradation, target porosity, max_particles and seed's placement are not used.
+    std::shared_ptr<const ImportedPacking> packing;
 
     // Throws InputError naming the field (dotted path, e.g. "specimen.target_porosity").
     void validate() const;

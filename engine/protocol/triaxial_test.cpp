@@ -12,6 +12,7 @@
 #include "engine/protocol/creep_hold.hpp"
 #include "engine/protocol/creep_regime.hpp"
 #include "engine/protocol/specimen.hpp"
+#include "engine/protocol/specimen_snapshot.hpp"
 #include "engine/protocol/stress_level.hpp"
 
 namespace triax::protocol {
@@ -105,6 +106,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             prog.report("generation", 0, 0.0);
             auto sp = std::make_unique<Specimen>(scheme);
             World& w = sp->world();
+            obs.on_snapshot(snapshot_of(*sp, scheme, "generation"));
             if (report) {
                 res.particle_count = sp->soil_count();
                 res.membrane_particle_count = sp->membrane().count();
@@ -116,6 +118,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             const double k_skel = sp->soil_kn() * 8.0;  // about 8 contacts under a grain
             const double v_max = 0.05 * sp->height() / (2000.0 * dt);
             obs.stage_changed("consolidation", 0, 0.0, 0.0);
+            sp->mark_reference();
             w.energy().reset_accumulated();
             const long consolidation_start = w.step();
             double ratio = 1.0;
@@ -145,6 +148,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             // Bonds (suction/cementation, moisture dependent) form on the consolidated fabric.
             sp->install_soil_bonds();
             sp->enable_crushing();
+            obs.on_snapshot(snapshot_of(*sp, scheme, "consolidation"));
             return sp;
         };
         auto shear_specimen = consolidated(true);
@@ -221,6 +225,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             if (q_peak > 0.0 && !res.shear.empty() && res.shear.back().q_pa < 0.8 * q_peak && eps_a > 0.02) break;
         }
         w.plane_wall(sp.top_wall()).velocity.setZero();
+        obs.on_snapshot(snapshot_of(sp, scheme, "shear"));
         }
         res.q_failure_pa = q_peak;
         res.axial_strain_at_failure = eps_peak;
@@ -280,14 +285,13 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
 
         const double hc = sp.height();  // reference height of the creep test
         const double z_top0 = sp.top_z();
-        const double H = scheme.specimen.height_m;
         // Measurement spheres on the axis at z = +0.4 H, 0, -0.4 H (+-80 mm for 200 mm),
         // radius max(0.15 D, 1.5 mean grain diameters) (15 mm for the paper's specimen): the
         // paper's 5 mm holds no grain of a coarse soil; this holds some grains yet stays
         // clear of platens and membrane.
-        res.measurement_sphere_radius_m = std::max(0.15 * scheme.specimen.diameter_m, 1.5 * sp.mean_diameter());
         std::vector<MeasurementSphere> spheres;
-        for (double z : {0.4 * H, 0.0, -0.4 * H}) spheres.emplace_back(Vec3(0, 0, z), res.measurement_sphere_radius_m);
+        for (const auto& m : measurement_sphere_layout(scheme, sp.mean_diameter())) spheres.emplace_back(m.center, m.radius_m);
+        res.measurement_sphere_radius_m = spheres.front().radius();
         for (auto& m : spheres) m.set_reference(w);
         double last_sample_t = 0.0;
         auto sample_spheres = [&](double t) {
@@ -451,6 +455,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             st.converged = regime.converged;
             for (double d : sp.fatigue_damage()) st.failed_grains += d >= kFatigueDamageMax ? 1 : 0;
             res.creep_stages.push_back(st);
+            obs.on_snapshot(snapshot_of(sp, scheme, stage));
             t_total += t;
             if (st.ruptured) break;
         }
