@@ -388,7 +388,8 @@ try {
   check(/run #\d+/.test(conditions) && /σ3 = \d+/.test(conditions), `the PNG carries the test conditions (${conditions})`);
   const unnamedRun = await unnamedControls(page);
   check(unnamedRun.length === 0, `every control and canvas of the run page has an accessible name (${unnamedRun.join(', ')})`);
-  const specimenState = await page.waitForFunction(() => document.querySelector('#specimen-card')?.dataset.state, null, { timeout: 10000 }).then(h => h.jsonValue(), () => 'none');
+  // Loading three.js and the snapshot, and the first frame in software WebGL, take seconds.
+  const specimenState = await page.waitForFunction(() => document.querySelector('#specimen-card')?.dataset.state, null, { timeout: 90000 }).then(h => h.jsonValue(), () => 'none');
   const specimenInfo = (await page.textContent('#specimen-info').catch(() => '')).trim();
   log('3D specimen panel:', specimenState, specimenInfo);
   check(specimenState === 'shown' || (specimenState === 'unavailable' && /no particle snapshots/.test(specimenInfo)),
