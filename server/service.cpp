@@ -134,6 +134,12 @@ void Service::register_routes() {
             send_problem(res, not_found("no resource at a path with control characters"), "");
             return httplib::Server::HandlerResponse::Handled;
         }
+        // Static files are looked up before the routes: the web directory's npm tree is
+        // hidden here (the page gets its packages from /vendor/).
+        if (is_private_web_path(req.path)) {
+            send_problem(res, not_found("no route for " + req.method + " " + req.path), req.path);
+            return httplib::Server::HandlerResponse::Handled;
+        }
         if (auto refusal = guard_.check(req)) {
             send_problem(res, ApiError(refusal->status, refusal->title, refusal->detail), req.path);
             if (refusal->status == 401) res.set_header("WWW-Authenticate", "Bearer");
@@ -185,6 +191,7 @@ void Service::register_routes() {
     register_dataset_routes(*this);
     register_comparison_routes(*this);
     register_diagnosis_routes(*this);
+    register_estimate_routes(*this);
     register_snapshot_routes(*this);
     register_packing_routes(*this);
     // Last: bodies sent to no route (or with PUT/PATCH) are read under the same cap, then

@@ -4,6 +4,7 @@
 // start(); the end-to-end tests start it in-process on an ephemeral port.
 #include "engine/diagnose/lab_data.hpp"
 #include "server/diagnoses/diagnosis_service.hpp"
+#include "engine/protocol/test_scheme.hpp"
 #include "server/events/event_log.hpp"
 #include "server/http/request_guard.hpp"
 #include "server/http/sse.hpp"
@@ -116,6 +117,9 @@ private:
 
 // Route groups, one file each.
 void register_service_routes(Service& s);
+// Paths under the web directory that are not served (its npm tree; the page's packages are
+// served through the /vendor/ whitelist).
+bool is_private_web_path(const std::string& path);
 void register_scheme_routes(Service& s);
 void register_run_routes(Service& s);
 void register_result_routes(Service& s);
@@ -124,12 +128,15 @@ void register_comparison_routes(Service& s);
 void register_diagnosis_routes(Service& s);
 // Start-up: fills datasets.header_json for rows stored without it; returns how many.
 int backfill_dataset_headers(Service& s);
+void register_estimate_routes(Service& s);
 void register_snapshot_routes(Service& s);
 void register_packing_routes(Service& s);
 
 // Shared helper of scheme and run routes: validates a scheme document (JSON Schema, then
 // the engine's own checks and the service limits) and stores it; returns {"id","scheme"}.
 nlohmann::json store_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
+// The same checks without storing: the parsed scheme (POST /estimate).
+protocol::TestScheme validated_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
 // A stored dataset (404 if unknown); `name` receives its name when not null.
 diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name);
 // A stored packing (404 naming /packing_id if unknown).

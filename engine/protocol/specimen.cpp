@@ -95,9 +95,7 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
     for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], shrink * radii[q], soil_density_, kSoilGroup);
 
     double rm = s.micro.membrane_particle_radius_m;
-    // Automatic: a quarter of the mean grain radius (no grain slips through the lattice)
-    // but not below the smallest grain, 1 mm .. D/20 (a few thousand membrane spheres).
-    if (rm <= 0.0) rm = std::clamp(std::max(rmin, 0.25 * r_mean_), 1.0e-3, 0.05 * s.specimen.diameter_m);
+    if (rm <= 0.0) rm = boundary::automatic_membrane_radius(rmin, r_mean_, s.specimen.diameter_m);
     membrane_ = std::make_unique<boundary::Membrane>(world_, R, H, rm, 1000.0, kMembraneGroup);
     world_.add_plane_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), kPlatenGroup);
     world_.add_plane_wall(Vec3(0, 0, 0.5 * H), -Vec3::UnitZ(), kPlatenGroup);

@@ -1,5 +1,7 @@
 #include "engine/protocol/specimen_budget.hpp"
 
+#include "engine/boundary/membrane.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -54,10 +56,7 @@ double solid_volume_m3(const TestScheme& s) {
 // Membrane lattice of engine/boundary/membrane.cpp for the radius specimen.cpp picks.
 double membrane_count(const TestScheme& s, double grain_min_radius_m, double grain_mean_radius_m) {
     double rm = s.micro.membrane_particle_radius_m;
-    if (rm <= 0.0) {
-        const double hi = std::max(1.0e-3, 0.05 * s.specimen.diameter_m);
-        rm = std::clamp(std::max(grain_min_radius_m, 0.25 * grain_mean_radius_m), 1.0e-3, hi);
-    }
+    if (rm <= 0.0) rm = boundary::automatic_membrane_radius(grain_min_radius_m, grain_mean_radius_m, s.specimen.diameter_m);
     if (!(rm > 0.0)) return 0.0;
     const double rc = 0.5 * s.specimen.diameter_m + rm;
     const double n_theta = std::max(8.0, std::round(kPi / std::asin(std::min(1.0, rm / rc))));

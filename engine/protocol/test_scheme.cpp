@@ -5,6 +5,7 @@
 
 #include "engine/core/types.hpp"
 #include "engine/protocol/gradation.hpp"
+#include "engine/protocol/run_estimate.hpp"
 #include "engine/protocol/specimen_budget.hpp"
 
 namespace triax::protocol {
@@ -115,6 +116,8 @@ void TestScheme::validate() const {
     // Size of the specimen before anything is drawn (specimen_budget.hpp), whatever
     // max_particles says: the builder draws the uncapped gradation first.
     check_specimen_budget(*this);
+    // A chosen membrane lattice must hold the grains (run_estimate.hpp).
+    check_membrane_holds_grains(*this);
 }
 
 }  // namespace triax::protocol

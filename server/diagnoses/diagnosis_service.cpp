@@ -168,7 +168,10 @@ json DiagnosisService::status(std::int64_t id) {
         auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
         st.bind_all(id);
         if (!st.step()) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
-        return diagnosis_json(st);
+        // The scheme diagnosed (the page's "run with these parameters" starts from it).
+        auto d = diagnosis_json(st);
+        d["scheme"] = json::parse(st.text(8)).value("scheme", json(nullptr));
+        return d;
     });
 }
 
