@@ -1,6 +1,7 @@
 // `triax run scheme.json --out DIR` / `triax run --group B --out DIR`: runs the whole
 // protocol headless, prints a progress line (stage, %, ETA) on stderr and writes
-// summary.json, result.json and one CSV per series into DIR.
+// summary.json, result.json and one CSV per series into DIR. `triax diagnose` and
+// `triax ensemble` (scaleout_commands.cpp) run on threads or, under mpirun, on MPI ranks.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "engine/core/types.hpp"
 #include "engine/protocol/paper_groups.hpp"
 #include "engine/protocol/triaxial_test.hpp"
+#include "server/cli/commands.hpp"
 #include "server/io/result_csv.hpp"
 #include "server/io/result_json.hpp"
 #include "server/io/scheme_json.hpp"
@@ -21,7 +23,12 @@ namespace {
 const char* kUsage =
     "usage: triax run <scheme.json> [--out DIR] [--threads N]\n"
     "       triax run --group A|B|C|D|E [--out DIR] [--threads N] [--max-particles N]\n"
-    "       triax presets            (prints the paper groups as JSON)\n";
+    "       triax presets            (prints the paper groups as JSON)\n"
+    "       triax diagnose --scheme SCHEME.json --dataset LAB_FILE [--format csv|gds|ags|json]\n"
+    "                      [--options OPTIONS.json] [--out REPORT.json]\n"
+    "       triax ensemble --scheme SCHEME.json --seeds 1-8 [--out DIR] [--concurrency N]\n"
+    "                      [--threads N] [--max-particles N]\n"
+    "       (diagnose and ensemble spread their runs over the ranks of `mpirun -np N triax ...`)\n";
 
 class StderrProgress : public triax::protocol::RunObserver {
 public:
@@ -70,19 +77,7 @@ int run(int argc, char** argv) {
     if (!group.empty()) {
         scheme = triax::protocol::paper_group(group);
     } else if (!scheme_path.empty()) {
-        std::ifstream f(scheme_path);
-        if (!f) throw std::invalid_argument("cannot open " + scheme_path);
-        nlohmann::json j;
-        try {
-            j = nlohmann::json::parse(f);
-        } catch (const nlohmann::json::parse_error& e) {
-            throw std::invalid_argument(scheme_path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
-        }
-        try {
-            scheme = triax::io::scheme_from_json(j);
-        } catch (const triax::io::SchemeError& e) {
-            throw std::invalid_argument(scheme_path + ": field " + e.field + ": " + e.what());
-        }
+        scheme = triax::cli::read_scheme_file(scheme_path);
     } else {
         throw std::invalid_argument("give a scheme file or --group");
     }
@@ -109,6 +104,8 @@ int main(int argc, char** argv) {
     const std::string cmd = argv[1];
     try {
         if (cmd == "run") return run(argc, argv);
+        if (cmd == "diagnose") return triax::cli::diagnose_command(argc, argv);
+        if (cmd == "ensemble") return triax::cli::ensemble_command(argc, argv);
         if (cmd == "presets") { std::cout << triax::io::presets_to_json().dump(2) << "\n"; return 0; }
         std::cerr << "unknown command '" << cmd << "'\n" << kUsage;
         return 2;
