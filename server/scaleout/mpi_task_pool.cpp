@@ -150,14 +150,16 @@ std::vector<TaskResult> MpiTaskPool::run(const std::vector<std::string>& tasks, 
     auto wait = kPollMin;
     for (;;) {
         wait = pump() ? kPollMin : backoff(wait);
-        if (!ticket.finished.empty() && on_done) {
+        if (!ticket.finished.empty()) {
             std::vector<std::size_t> done;
             done.swap(ticket.finished);
-            lock.unlock();
-            for (std::size_t i : done) on_done(i);
-            lock.lock();
+            if (on_done) {
+                lock.unlock();
+                for (std::size_t i : done) on_done(i);
+                lock.lock();
+            }
+            continue;  // tasks may have finished meanwhile
         }
-        ticket.finished.clear();
         if (ticket.remaining == 0) break;
         // Woken early when rank 0's own thread finishes a task; results of other ranks are
         // seen at the next pump.
