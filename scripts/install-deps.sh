@@ -5,7 +5,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 pkgs=(build-essential cmake pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev
-      libsqlite3-dev sqlite3 catch2 libomp-dev curl)
+      libsqlite3-dev sqlite3 catch2 libomp-dev curl libopenmpi-dev openmpi-bin)
 if [[ "${TRIAX_WITH_BROWSER:-1}" == 1 ]]; then
   pkgs+=(chromium)
   command -v node >/dev/null 2>&1 || pkgs+=(nodejs)

@@ -8,6 +8,7 @@
 #include "server/jobs/job_queue.hpp"
 #include "server/runs/run_executor.hpp"
 #include "server/runs/run_service.hpp"
+#include "server/scaleout/mpi_job_launcher.hpp"
 #include "server/store/database.hpp"
 
 #include <httplib.h>
@@ -36,6 +37,8 @@ struct ServiceConfig {
     std::size_t max_body_bytes = 16u << 20;  // uploads and schemes
     int max_particles = 200000;            // estimated soil particles of a scheme
     int http_threads = 32;                 // SSE clients each hold one
+    // Diagnoses as MPI jobs (mpirun --hostfile H -np N triax diagnose ...) when ranks > 0.
+    scaleout::MpiLaunchSettings mpi;
 };
 
 class Service {

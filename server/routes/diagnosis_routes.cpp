@@ -8,6 +8,7 @@
 #include "server/http/problem.hpp"
 #include "server/http/sse.hpp"
 #include "server/io/diagnosis_json.hpp"
+#include "server/io/lab_format.hpp"
 #include "server/io/scheme_json.hpp"
 #include "server/service.hpp"
 
@@ -89,8 +90,12 @@ void execute_diagnosis(Service& s, std::int64_t id, std::shared_ptr<std::atomic<
         const auto scheme = io::scheme_from_json(request["scheme"]);
         const auto options = io::diagnose_options_from_json(request["options"]);
         StreamingDiagnoseObserver observer(s, id, cancel);
-        const auto report = diagnose::run_diagnosis(lab, scheme, options, observer);
-        const json doc = io::diagnosis_report_to_json(report);
+        // With --mpi-ranks the same diagnosis runs as an mpirun job (server/scaleout).
+        const json doc = s.config.mpi.enabled()
+                             ? scaleout::run_diagnosis_over_mpi(s.config.mpi, s.config.data_dir / "diagnoses" / std::to_string(id),
+                                                                {request["scheme"], io::lab_dataset_to_json(lab), request["options"]},
+                                                                observer)
+                             : io::diagnosis_report_to_json(diagnose::run_diagnosis(lab, scheme, options, observer));
         finish_diagnosis(s, id, "done", "", &doc);
     } catch (const diagnose::DiagnosisCancelled&) {
         finish_diagnosis(s, id, s.shutting_down ? "interrupted" : "cancelled",

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# `triax diagnose` and `triax ensemble` on a tiny DEM case (about 120 grains sheared to 1 %,
-# a few seconds of CPU per run): threaded, then under `mpirun -np 2` and `-np 3`. The report
+# `triax diagnose` and `triax ensemble` on a tiny DEM case (about 40 grains (the service e2e test's specimen) sheared to 1 %,
+# about a second of CPU per run): threaded, then under `mpirun -np 2` and `-np 3`. The report
 # and the ensemble files must be byte-identical (they hold no timing).
 # usage: same_report.sh TRIAX MPIRUN DATA_DIR
 set -euo pipefail
