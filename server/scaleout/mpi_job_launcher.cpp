@@ -121,8 +121,10 @@ std::vector<std::string> mpi_diagnosis_command(const MpiLaunchSettings& s, const
     return cmd;
 }
 
-nlohmann::json run_diagnosis_over_mpi(const MpiLaunchSettings& settings, const std::filesystem::path& dir,
+nlohmann::json run_diagnosis_over_mpi(const MpiLaunchSettings& settings, const std::filesystem::path& job_dir,
                                       const MpiDiagnosisInputs& inputs, diagnose::DiagnoseObserver& observer) {
+    // Absolute paths on the command line: the ranks on other hosts read the same files.
+    const auto dir = std::filesystem::absolute(job_dir);
     std::filesystem::create_directories(dir);
     write_json(dir / "scheme.json", inputs.scheme);
     write_json(dir / "dataset.json", inputs.dataset);
