@@ -6,7 +6,8 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 
 pkgs=(build-essential cmake pkg-config libeigen3-dev libcpp-httplib-dev nlohmann-json3-dev
-      libsqlite3-dev sqlite3 zlib1g-dev catch2 libomp-dev curl iproute2 clang)
+      libsqlite3-dev sqlite3 zlib1g-dev catch2 libomp-dev curl iproute2 clang
+      libopenmpi-dev openmpi-bin)
 # npm fetches the page's packages (uplot, three) for every install, the service's too.
 command -v node >/dev/null 2>&1 || pkgs+=(nodejs)
 command -v npm >/dev/null 2>&1 || pkgs+=(npm)

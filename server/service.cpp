@@ -1,5 +1,8 @@
 #include "server/service.hpp"
 
+#include "server/io/lab_format.hpp"
+#include "server/scaleout/mpi_job_launcher.hpp"
+
 #include "server/http/problem.hpp"
 
 #include <sys/socket.h>
@@ -101,6 +104,14 @@ Service::Service(ServiceConfig cfg, RunExecutor executor)
     openapi = read_json_file(config.schema_dir / "openapi.json").value_or(json::object());
     interrupted_at_start = runs.recover_interrupted() + diagnoses.recover_interrupted();
     backfill_dataset_headers(*this);
+    // With --mpi-ranks a diagnosis runs as an mpirun job of the triax CLI (server/scaleout).
+    if (config.mpi.enabled())
+        diagnoses.set_remote_runner([this](std::int64_t id, const json& request, const diagnose::LabDataset& lab,
+                                           diagnose::DiagnoseObserver& observer) {
+            return scaleout::run_diagnosis_over_mpi(config.mpi, config.data_dir / "diagnoses" / std::to_string(id),
+                                                    {request["scheme"], io::lab_dataset_to_json(lab), request["options"]},
+                                                    observer);
+        });
     register_routes();
 }
 

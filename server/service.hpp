@@ -12,6 +12,7 @@
 #include "server/jobs/job_queue.hpp"
 #include "server/runs/run_executor.hpp"
 #include "server/runs/run_service.hpp"
+#include "server/scaleout/mpi_job_launcher.hpp"
 #include "server/store/database.hpp"
 
 #include <httplib.h>
@@ -54,6 +55,8 @@ struct ServiceConfig {
     int listen_backlog = 512;              // pending connections the kernel queues (>= 128)
     std::string token;                     // --token / TRIAX_TOKEN: required on every route but /health
     std::vector<std::string> allowed_hosts;  // extra Host names accepted (--allow-host)
+    // Diagnoses as MPI jobs (mpirun --hostfile H -np N triax diagnose ...) when ranks > 0.
+    scaleout::MpiLaunchSettings mpi;
 };
 
 class Service {

@@ -5,6 +5,8 @@
 // `--packing FILE` starts from an imported packing (docs/packings.md).
 // `triax export DIR --stage S --format F [--out FILE]` writes a stored snapshot of DIR in
 // format F (json, project, spheres, lammps, vtk).
+// `triax diagnose` and `triax ensemble` (scaleout_commands.cpp) run on threads or, under
+// mpirun, on MPI ranks.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +23,7 @@
 #include "server/io/bounded_json.hpp"
 #include "engine/protocol/imported_packing.hpp"
 #include "server/io/packing_formats.hpp"
+#include "server/cli/commands.hpp"
 #include "server/io/result_csv.hpp"
 #include "server/io/result_json.hpp"
 #include "server/io/scheme_json.hpp"
@@ -32,7 +35,12 @@ const char* kUsage =
     "       triax run --group A|B|C|D|E [--out DIR] [--threads N] [--max-particles N]\n"
     "       triax export <RUN_DIR> --stage generation|consolidation|shear|creep-K\n"
     "                    --format json|project|spheres|lammps|vtk [--out FILE]\n"
-    "       triax presets            (prints the paper groups as JSON)\n";
+    "       triax presets            (prints the paper groups as JSON)\n"
+    "       triax diagnose --scheme SCHEME.json --dataset LAB_FILE [--format csv|gds|ags|json]\n"
+    "                      [--options OPTIONS.json] [--out REPORT.json]\n"
+    "       triax ensemble --scheme SCHEME.json --seeds 1-8 [--out DIR] [--concurrency N]\n"
+    "                      [--threads N] [--max-particles N]\n"
+    "       (diagnose and ensemble spread their runs over the ranks of `mpirun -np N triax ...`)\n";
 
 class StderrProgress : public triax::protocol::RunObserver {
 public:
@@ -106,6 +114,7 @@ int run(int argc, char** argv) {
         } catch (const triax::io::SchemeError& e) {
             throw std::invalid_argument(scheme_path + ": field " + e.field + ": " + e.what());
         }
+        scheme = triax::cli::read_scheme_file(scheme_path);
     } else {
         throw std::invalid_argument("give a scheme file or --group");
     }
@@ -182,6 +191,8 @@ int main(int argc, char** argv) {
     try {
         if (cmd == "run") return run(argc, argv);
         if (cmd == "export") return export_snapshot(argc, argv);
+        if (cmd == "diagnose") return triax::cli::diagnose_command(argc, argv);
+        if (cmd == "ensemble") return triax::cli::ensemble_command(argc, argv);
         if (cmd == "presets") { std::cout << triax::io::presets_to_json().dump(2) << "\n"; return 0; }
         std::cerr << "unknown command '" << cmd << "'\n" << kUsage;
         return 2;

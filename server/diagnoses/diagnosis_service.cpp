@@ -226,8 +226,8 @@ void DiagnosisService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool
         const auto scheme = io::scheme_from_json(request["scheme"]);
         const auto options = io::diagnose_options_from_json(request["options"]);
         StreamingDiagnoseObserver observer(db_, events_, id, cancel);
-        const auto report = diagnose::run_diagnosis(lab, scheme, options, observer);
-        const json doc = io::diagnosis_report_to_json(report);
+        const json doc = remote_ ? remote_(id, request, lab, observer)
+                                 : io::diagnosis_report_to_json(diagnose::run_diagnosis(lab, scheme, options, observer));
         finish(id, "done", "", &doc);
     } catch (const diagnose::DiagnosisCancelled&) {
         finish(id, shutting_down_ ? "interrupted" : "cancelled",

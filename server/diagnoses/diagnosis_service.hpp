@@ -42,10 +42,16 @@ public:
     bool exists(std::int64_t id);
     // Graceful stop: running diagnoses are asked to stop and recorded "interrupted".
     void begin_shutdown();
+    // Where a diagnosis runs instead of in this process (the MPI launcher with --mpi-ranks):
+    // (id, request, lab, observer) -> report JSON. Unset: in process.
+    using RemoteRunner = std::function<nlohmann::json(std::int64_t, const nlohmann::json&, const diagnose::LabDataset&,
+                                                      diagnose::DiagnoseObserver&)>;
+    void set_remote_runner(RemoteRunner r) { remote_ = std::move(r); }
 
 private:
     void execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel);
     void finish(std::int64_t id, const std::string& status, const std::string& detail, const nlohmann::json* report);
+    RemoteRunner remote_;
     Database& db_;
     EventLog& events_;
     JobQueue& queue_;

@@ -208,6 +208,21 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
             {"verdict", diagnosis_verdict(r)}};
 }
 
+CandidateResult candidate_from_json(const json& c) {
+    CandidateResult cr;
+    cr.step = c.value("step", 1);
+    cr.effect = c.at("effect").get<std::string>();
+    cr.signature_score = c.value("signature_score", 0.0);
+    cr.fitted = c.value("fitted", false);
+    cr.parameters = parameters_from_json(c.value("parameters", json::array()));
+    cr.rss = c.value("rss", 0.0);
+    cr.nrmse = c.value("nrmse", 0.0);
+    cr.bic = c.value("bic", 0.0);
+    cr.delta_bic_vs_base = c.value("delta_bic_vs_base", 0.0);
+    cr.note = c.value("note", std::string{});
+    return cr;
+}
+
 DiagnosisReport diagnosis_report_from_json(const json& j) {
     DiagnosisReport r;
     const std::string outcome = j.value("outcome", std::string{"unexplained"});
@@ -226,20 +241,7 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
     r.delta_bic_vs_base = d.at("vs_base").get<double>();
     for (const auto& ru : d.value("runners_up", json::array()))
         r.runners_up.push_back({ru.at("effect").get<std::string>(), ru.at("delta_bic").get<double>()});
-    for (const auto& c : j.value("candidates", json::array())) {
-        CandidateResult cr;
-        cr.step = c.value("step", 1);
-        cr.effect = c.at("effect").get<std::string>();
-        cr.signature_score = c.value("signature_score", 0.0);
-        cr.fitted = c.value("fitted", false);
-        cr.parameters = parameters_from_json(c.value("parameters", json::array()));
-        cr.rss = c.value("rss", 0.0);
-        cr.nrmse = c.value("nrmse", 0.0);
-        cr.bic = c.value("bic", 0.0);
-        cr.delta_bic_vs_base = c.value("delta_bic_vs_base", 0.0);
-        cr.note = c.value("note", std::string{});
-        r.candidates.push_back(std::move(cr));
-    }
+    for (const auto& c : j.value("candidates", json::array())) r.candidates.push_back(candidate_from_json(c));
     for (const auto& s : j.value("steps", json::array()))
         r.steps.push_back({s.at("step").get<int>(), s.value("added", std::string{}), s.value("nrmse_before", 0.0),
                            s.value("nrmse_after", 0.0), s.value("delta_bic", 0.0), s.value("n_effective", 0.0)});

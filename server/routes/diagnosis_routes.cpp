@@ -6,6 +6,7 @@
 #include "server/http/problem.hpp"
 #include "server/http/sse.hpp"
 #include "server/io/diagnosis_json.hpp"
+#include "server/io/lab_format.hpp"
 #include "server/io/scheme_json.hpp"
 #include "server/service.hpp"
 
