@@ -25,7 +25,6 @@
 #include "server/scaleout/ensemble.hpp"
 #include "server/scaleout/task_runner.hpp"
 #ifdef TRIAX_WITH_MPI
-#include "server/scaleout/batch_forward_model.hpp"
 #include "server/scaleout/mpi_simulation_batch.hpp"
 #include "server/scaleout/mpi_task_pool.hpp"
 #endif
@@ -200,8 +199,7 @@ int diagnose_command(int argc, char** argv) {
         if (options.concurrency < batch.width())
             std::fprintf(stderr, "diagnose: concurrency %d < %d ranks: set \"concurrency\" in the options to use them all\n",
                          options.concurrency, batch.width());
-        const scaleout::BatchForwardModel remote(model, batch);
-        report = diagnose::run_diagnosis(lab, remote, options, observer);
+        report = diagnose::run_diagnosis(lab, model, options, observer, batch);
 #endif
     }
     const std::string doc = io::diagnosis_report_to_json(report).dump(2) + "\n";

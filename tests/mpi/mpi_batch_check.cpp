@@ -17,7 +17,6 @@
 #include "tests/diagnose/synthetic_lab.hpp"
 #include "engine/diagnose/diagnosis.hpp"
 #include "server/io/diagnosis_json.hpp"
-#include "server/scaleout/batch_forward_model.hpp"
 #include "server/scaleout/mpi_simulation_batch.hpp"
 #include "server/scaleout/mpi_task_pool.hpp"
 #include "server/scaleout/wire_format.hpp"
@@ -127,8 +126,7 @@ int main(int argc, char** argv) {
         opt.concurrency = 3;
         DiagnoseObserver quiet;
         const auto threaded = triax::io::diagnosis_report_to_json(run_diagnosis(lab, analytic, opt, quiet)).dump(2);
-        const BatchForwardModel remote(analytic, batch);
-        const auto ranked = triax::io::diagnosis_report_to_json(run_diagnosis(lab, remote, opt, quiet)).dump(2);
+        const auto ranked = triax::io::diagnosis_report_to_json(run_diagnosis(lab, analytic, opt, quiet, batch)).dump(2);
         check(threaded == ranked, "diagnosis report through the ranks equals the threaded one");
 
         pool.shutdown();
