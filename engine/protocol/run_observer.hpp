@@ -6,6 +6,10 @@
 
 #include "engine/protocol/test_result.hpp"
 
+namespace triax {
+class World;
+}
+
 namespace triax::protocol {
 
 // One physical-time piece of a creep stage (diagnostics of the increment schedule: bench
@@ -37,6 +41,10 @@ public:
     virtual void energy_sample(const EnergySample&) {}
     virtual void measurement_sample(const MeasurementSample&) {}
     virtual void creep_increment(const CreepIncrementLog&) {}
+    // The specimen's world as a stage ends ("generation", "consolidation", "shear",
+    // "creep-k"): read it, do not keep the reference (the stored reference trajectory of
+    // tests/protocol digests positions and forces here).
+    virtual void stage_ended(const std::string& /*stage*/, const World& /*world*/) {}
     // Polled between increments; returning true ends the run with result.cancelled = true.
     virtual bool cancel_requested() { return false; }
 };

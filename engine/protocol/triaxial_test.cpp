@@ -105,6 +105,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             prog.report("generation", 0, 0.0);
             auto sp = std::make_unique<Specimen>(scheme);
             World& w = sp->world();
+            obs.stage_ended("generation", w);
             if (report) {
                 res.particle_count = sp->soil_count();
                 res.membrane_particle_count = sp->membrane().count();
@@ -145,6 +146,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             // Bonds (suction/cementation, moisture dependent) form on the consolidated fabric.
             sp->install_soil_bonds();
             sp->enable_crushing();
+            obs.stage_ended("consolidation", w);
             return sp;
         };
         auto shear_specimen = consolidated(true);
@@ -221,6 +223,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             if (q_peak > 0.0 && !res.shear.empty() && res.shear.back().q_pa < 0.8 * q_peak && eps_a > 0.02) break;
         }
         w.plane_wall(sp.top_wall()).velocity.setZero();
+        obs.stage_ended("shear", w);
         }
         res.q_failure_pa = q_peak;
         res.axial_strain_at_failure = eps_peak;
@@ -451,6 +454,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             st.converged = regime.converged;
             for (double d : sp.fatigue_damage()) st.failed_grains += d >= kFatigueDamageMax ? 1 : 0;
             res.creep_stages.push_back(st);
+            obs.stage_ended(stage, w);
             t_total += t;
             if (st.ruptured) break;
         }
