@@ -12,8 +12,6 @@
 // linear law uses overlap - creep_normal_offset), damage (in [0, 1], bond strengths are
 // scaled by 1 - damage), asperity_wear (in [0, 1), the Coulomb limit of an unbonded
 // contact is mu (1 - wear) Fn), creep_slip (m, the contact's accumulated delayed slip),
-// flow_threshold (mobilisation at which an aged contact starts its secondary flow),
-// sliding_slip (Coulomb sliding the law accumulates, read by the slow-slip weakening),
 // shear_force (viscous relaxation of the shear spring). All reset when a contact opens:
 // a new contact has fresh asperities.
 #include "engine/core/types.hpp"
@@ -41,8 +39,6 @@ struct ContactStore {
     std::vector<double> damage;              // [0, 1]
     std::vector<double> asperity_wear;       // [0, 1), friction loss of the contact
     std::vector<double> creep_slip;          // m, accumulated delayed (creep) slip
-    std::vector<double> flow_threshold;      // mobilisation an aged contact must reach to flow (0 = not aged)
-    std::vector<double> sliding_slip;        // m, Coulomb sliding since the creep mechanism last read it
     // Per-step results (slots gathered per particle in a fixed order).
     std::vector<Vec3> force_on_j;            // N, total contact force on j (on i: minus this)
     std::vector<Vec3> torque_on_i, torque_on_j;  // N m
@@ -58,7 +54,7 @@ struct ContactStore {
         normal_force.resize(n); shear_force.resize(n); rolling_moment.resize(n);
         bonded.resize(n); neck_cracked.resize(n); bond_normal_strength.resize(n); bond_shear_strength.resize(n);
         reference_gap.resize(n); creep_normal_offset.resize(n); damage.resize(n);
-        asperity_wear.resize(n); creep_slip.resize(n); flow_threshold.resize(n); sliding_slip.resize(n);
+        asperity_wear.resize(n); creep_slip.resize(n);
         force_on_j.resize(n); torque_on_i.resize(n); torque_on_j.resize(n);
         contact_point.resize(n); overlap.resize(n);
     }
@@ -77,8 +73,6 @@ struct ContactStore {
         damage[k] = 0.0;
         asperity_wear[k] = 0.0;
         creep_slip[k] = 0.0;
-        flow_threshold[k] = 0.0;
-        sliding_slip[k] = 0.0;
         active[k] = 0;
     }
 
@@ -97,8 +91,6 @@ struct ContactStore {
         damage[to] = other.damage[from];
         asperity_wear[to] = other.asperity_wear[from];
         creep_slip[to] = other.creep_slip[from];
-        flow_threshold[to] = other.flow_threshold[from];
-        sliding_slip[to] = other.sliding_slip[from];
     }
 };
 

@@ -126,7 +126,7 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
             kin.dt = dt;
             LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k], &c.neck_cracked[k],
                                      c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
-                                     c.asperity_wear[k], &c.sliding_slip[k]};
+                                     c.asperity_wear[k]};
             const LinearContact::Outcome o = LinearContact::evaluate<kRolling, kStateEnergy>(params[c.law[k]], kin, h);
             sums.add(o);
             c.overlap[k] = kin.overlap;

@@ -20,10 +20,6 @@ struct CreepIncrementLog {
     double dt_s = 0.0;           // the piece (after splitting)
     long hold_cycles = 0;        // cycles of the relaxation that followed it
     long crushing_events = 0;    // contact return maps (yielding) during that relaxation
-    long grains_at_strength = 0; // grains with a contact at or above their intact strength (r >= 1)
-    long grains_failed = 0;      // grains at the fatigue cap D_max after the piece
-    double max_damage_increment = 0.0;  // largest fatigue growth dD of the piece
-    double max_force_ratio = 0.0;       // largest F_max / F_c of a grain not yet failed
     double deformation_m = 0.0;  // axial deformation after the relaxation
 };
 

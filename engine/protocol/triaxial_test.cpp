@@ -52,13 +52,6 @@ private:
     std::vector<double> weights_;
 };
 
-// Servo on a platen (PFC-style): wall speed proportional to the stress error, gain from
-// the skeleton stiffness so that one chunk closes a fraction of the error.
-double servo_velocity(double target, double measured, double area, double k_skeleton, double dt, double v_max) {
-    const double gain = 0.2 * area / (k_skeleton * dt * kChunk);
-    return std::clamp(gain * (target - measured), -v_max, v_max);
-}
-
 EnergySample energy_sample(const World& w, int phase, double time_s) {
     const auto& e = w.energy();
     EnergySample s;
@@ -84,10 +77,6 @@ TestResult run_triaxial_test(const TestScheme& scheme) {
 }
 
 TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase last) {
-    return run_triaxial_test(scheme, obs, last, HoldOptions{});
-}
-
-TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase last, const HoldOptions& hold_options) {
     scheme.validate();
     TestResult res;
     res.scheme_name = scheme.name;
@@ -114,8 +103,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             sp->install_test_laws();
             sp->membrane().set_fixed(w, false);
             const double dt = w.time_step();
-            const double k_skel = sp->soil_kn() * 8.0;  // about 8 contacts under a grain
-            const double v_max = 0.05 * sp->height() / (2000.0 * dt);
+            const PlatenServo servo = PlatenServo::for_specimen(*sp);
             obs.stage_changed("consolidation", 0, 0.0, 0.0);
             w.energy().reset_accumulated();
             const long consolidation_start = w.step();
@@ -125,8 +113,8 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 const double area = sp->volume() / sp->height();
                 auto& top = w.plane_wall(sp->top_wall());
                 auto& bot = w.plane_wall(sp->bottom_wall());
-                top.velocity = Vec3(0, 0, -servo_velocity(sigma3, top.normal_stress(area), area, k_skel, dt, v_max));
-                bot.velocity = Vec3(0, 0, servo_velocity(sigma3, bot.normal_stress(area), area, k_skel, dt, v_max));
+                top.velocity = Vec3(0, 0, -servo.velocity(sigma3, top.normal_stress(area), area, dt));
+                bot.velocity = Vec3(0, 0, servo.velocity(sigma3, bot.normal_stress(area), area, dt));
                 sp->cycle(kChunk, sigma3);
                 ratio = w.unbalanced_force_ratio();
                 const bool stress_ok = std::abs(sp->axial_stress() - sigma3) < kStressTolerance * sigma3;
@@ -156,13 +144,11 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         Specimen* spp = shear_specimen.get();
         World* wp = &spp->world();
         const double dt = wp->time_step();
-        const double k_skel = spp->soil_kn() * 8.0;
-        const double v_max = 0.05 * spp->height() / (2000.0 * dt);
+        const PlatenServo hold_servo = PlatenServo::for_specimen(*spp);
 
         // ---- strain-controlled shear ------------------------------------------
         obs.stage_changed("shear", 0, 0.0, 0.0);
         double q_peak = 0.0, eps_peak = 0.0;
-        double shear_speed = 0.0;  // m/s, the quasi-static platen speed of the shear test
         const double eps_max = scheme.loading.max_axial_strain;
         {
         Specimen& sp = *spp;
@@ -181,7 +167,6 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         res.inertial_density_kg_m3 = rho_inertial;
         const double rate = kInertialTarget * std::sqrt(p0 / rho_inertial) / sp.mean_diameter();
         const double seating = scheme.effects.seating_error ? scheme.effects.seating_displacement_m : 0.0;
-        shear_speed = rate * h0;
         w.plane_wall(sp.top_wall()).velocity = Vec3(0, 0, -rate * h0);
         const long record_every = std::max<long>(kChunk, static_cast<long>(0.002 / (rate * dt)) / kChunk * kChunk);
         long since_record = 0;
@@ -245,7 +230,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         std::vector<Vec3> rotation(sp.soil_count(), Vec3::Zero());
         // Creep readings are deformations at a held stress and in equilibrium (the reading
         // convention: engine/protocol/creep_hold.hpp).
-        CreepHold holder(sp, sigma3, k_skel, v_max, shear_speed, scheme.loading.consolidation_tolerance, hold_options);
+        CreepHold holder(sp, sigma3, hold_servo, scheme.loading.consolidation_tolerance);
 
         // ---- multi-stage creep in physical time --------------------------------
         creep::RateProcessParams cp;
@@ -255,32 +240,14 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         cp.slip_capacity_m = scheme.creep.slip_hardening_length_m;
         cp.capacity_offset = scheme.creep.capacity_offset;
         cp.aging_margin = scheme.creep.aging_margin;
-        cp.critical_mobilisation = scheme.creep.critical_mobilisation;
-        cp.flow_rate_scale = scheme.creep.flow_rate_scale;
         cp.wear_length_m = scheme.creep.wear_length_m;
         cp.wear_max = scheme.creep.wear_max;
-        cp.flow_wear_length_m = scheme.creep.flow_wear_length_m;
-        cp.slow_slip_wear_max = scheme.creep.slow_slip_wear_max;
-        cp.slow_slip_wear_length_m = scheme.creep.slow_slip_wear_length_m;
-        cp.corroded_bond_friction_loss = scheme.creep.corroded_bond_friction_loss;
         cp.bond_corrosion_b1_per_s = scheme.creep.damage_rate_b1_per_s * vs *
                                      (scheme.effects.grain_breakage ? scheme.effects.breakage_damage_scale : 1.0);
         cp.bond_corrosion_b2 = scheme.creep.damage_b2;
         cp.bond_corrosion_threshold = scheme.creep.damage_threshold;
         cp.soil_group = kSoilGroup;
         creep::RateProcessCreep creep_law(cp);
-        GrainFatigueParams fatigue;  // static fatigue of crushable grains (creep stages only)
-        fatigue.time_s = vs > 0.0 ? scheme.creep.grain_fatigue_time_s / vs : 0.0;  // creep effect off: none
-        fatigue.exponent = scheme.creep.grain_fatigue_exponent;
-        fatigue.ratio_cap = scheme.creep.grain_fatigue_ratio_cap;
-        switch (scheme.creep.grain_fatigue_drive) {
-            case GrainFatigueDrive::CappedPeakForce: fatigue.drive = FatigueDrive::CappedPeakForce; break;
-            case GrainFatigueDrive::PeakForce: fatigue.drive = FatigueDrive::PeakForce; break;
-            case GrainFatigueDrive::GrainStress: fatigue.drive = FatigueDrive::GrainStress; break;
-        }
-        fatigue.instant_life_s = scheme.creep.grain_fatigue_instant_life_s;
-        fatigue.strength_spread = scheme.creep.grain_fatigue_strength_spread;
-
         const double hc = sp.height();  // reference height of the creep test
         const double z_top0 = sp.top_z();
         const double H = scheme.specimen.height_m;
@@ -321,22 +288,6 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             for (auto& r : rotation) r.setZero();
             last_sample_t = t;
         };
-        // Instantaneous crushing (fatigue.instant_life_s > 0): grains whose life at the present
-        // forces is shorter than that fail together, one relaxation passes their load on, and
-        // again while any remain. No physical time passes: it is part of the response to the
-        // load, not a step for the schedule to resolve (without it such grains stall the
-        // piece loop in ever shorter pieces). Returns the grains failed.
-        auto instant_crushing = [&](double q_target) {
-            long total = 0;
-            for (int round = 0; round < 200; ++round) {
-                const long m = sp.fail_short_lived_grains(fatigue);
-                if (m == 0) break;
-                total += m;
-                holder.hold(sigma3 + q_target, 100, 20000, &rotation, false);
-                ++res.creep_relaxations;
-            }
-            return total;
-        };
         double t_total = 0.0;
         for (int k = 0; k < n_stages; ++k) {
             const double S = scheme.loading.stress_levels[k];
@@ -357,9 +308,7 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             // The contacts have aged under the previous load (the consolidation, or the
             // previous stage); then the loading step: the instantaneous response.
             creep_law.age(w);
-            holder.hold(sigma3 + q_target, 500, 200000, &rotation, true);
-            st.instant_failed_grains = static_cast<int>(instant_crushing(q_target));
-            creep_law.forget_sliding(w);
+            holder.hold(sigma3 + q_target, 500, 200000, &rotation);
             auto record = [&](double t_stage) {
                 const double d = z_top0 - sp.top_z();
                 CreepPoint cpnt{t_total + t_stage, d, d / hc};
@@ -381,26 +330,14 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                 // the mechanical relaxation then follows the creep (increment convergence).
                 double left = dts[n];
                 while (left > 0.0) {
-                    instant_crushing(q_target);
                     double h = left;
-                    // A grain fatigued to failure (D_max) within the piece ends it: the
-                    // broken grain's load must move to its neighbours (relaxation) before
-                    // their fatigue goes on, so a fibre-bundle cascade is resolved one
-                    // redistribution at a time and the failure times do not follow the
-                    // schedule. The piece overshoots the exact failure time by 1e-6 of it
-                    // so that the exact update reaches D_max.
-                    const double t_fail = sp.advance_fatigue(h, fatigue, false).next_failure_s;
-                    if (t_fail < h) h = std::min(h, t_fail * (1.0 + 1e-6));
-                    // ... or would fatigue a grain by more than a tenth of its strength.
-                    for (int halving = 0; halving < 8 && (creep_law.trial(w, h).relaxation >
-                                                              scheme.creep.max_relaxation_per_increment ||
-                                                          sp.advance_fatigue(h, fatigue, false).max_increment > 0.1);
+                    for (int halving = 0;
+                         halving < 8 && creep_law.trial(w, h).relaxation > scheme.creep.max_relaxation_per_increment;
                          ++halving)
                         h *= 0.5;
                     creep_law.advance(w, h);
-                    const FatigueSummary fs = sp.advance_fatigue(h, fatigue);
                     const long crushed_before = sp.crushing_events();
-                    const long cycles = holder.hold(sigma3 + q_target, 100, 20000, &rotation, false);
+                    const long cycles = holder.hold(sigma3 + q_target, 100, 20000, &rotation);
                     ++res.creep_relaxations;
                     left = h < left ? left - h : 0.0;
                     CreepIncrementLog il;
@@ -409,10 +346,6 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
                     il.dt_s = h;
                     il.hold_cycles = cycles;
                     il.crushing_events = sp.crushing_events() - crushed_before;
-                    il.grains_at_strength = fs.grains_at_strength;
-                    il.grains_failed = fs.grains_failed;
-                    il.max_damage_increment = fs.max_increment;
-                    il.max_force_ratio = fs.max_ratio;
                     il.deformation_m = z_top0 - sp.top_z();
                     obs.creep_increment(il);
                     // A collapse is read piece by piece: driven on, its relaxations run at
@@ -452,7 +385,6 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
             const CreepRegime regime = classify_creep_regime(st, t);
             st.accelerating = regime.accelerating;
             st.converged = regime.converged;
-            for (double d : sp.fatigue_damage()) st.failed_grains += d >= kFatigueDamageMax ? 1 : 0;
             res.creep_stages.push_back(st);
             obs.stage_ended(stage, w);
             t_total += t;
