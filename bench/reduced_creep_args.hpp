@@ -69,10 +69,10 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "eps") s.creep.capacity_offset = v;
     else if (k == "age") s.creep.aging_margin = v;
     else if (k == "sw") s.creep.wear_length_m = v;
-    else if (k == "b2") s.creep.damage_b2 = v;
-    else if (k == "fth") s.creep.damage_threshold = v;
+    else if (k == "b2") s.creep.bond_corrosion_b2 = v;
+    else if (k == "fth") s.creep.bond_corrosion_threshold = v;
     else if (k == "dmax") s.creep.wear_max = v;
-    else if (k == "b1") s.creep.damage_rate_b1_per_s = v;
+    else if (k == "b1") s.creep.bond_corrosion_rate_b1_per_s = v;
     else if (k == "bmu") s.micro.bond_friction = v;
     else if (k == "brf") s.micro.bond_rolling_friction = v;
     else if (k == "sigc") s.micro.crushing_strength_pa = v * 1e6;

@@ -7,9 +7,9 @@
 
 namespace triax::creep {
 
-RateProcessCreep::RateProcessCreep(const RateProcessParams& p) : p_(p) {
+RateProcessCreep::RateProcessCreep(const RateProcessParams& p, int soil_group) : p_(p), soil_group_(soil_group) {
     if (!(p.slip_rate_a_m_s >= 0.0)) throw InputError("creep.slip_rate_a_m_s: must be >= 0");
-    if (!(p.slip_capacity_m > 0.0)) throw InputError("creep.slip_capacity_m: must be > 0");
+    if (!(p.slip_hardening_length_m > 0.0)) throw InputError("creep.slip_hardening_length_m: must be > 0");
     if (!(p.capacity_offset > 0.0)) throw InputError("creep.capacity_offset: must be > 0");
     if (!(p.wear_length_m >= 0.0)) throw InputError("creep.wear_length_m: must be >= 0");
     if (!(p.wear_max >= 0.0 && p.wear_max < 1.0)) throw InputError("creep.wear_max: must be in [0, 1)");
@@ -43,7 +43,7 @@ void RateProcessCreep::age(World& world) const {
     auto& c = world.contacts();
     const auto& grp = world.particles().group;
     for (std::size_t k = 0; k < c.size(); ++k) {
-        if (!c.active[k] || grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
+        if (!c.active[k] || grp[c.i[k]] != soil_group_ || grp[c.j[k]] != soil_group_) continue;
         const double f = mobilisation(c, world.contact_law_of(k), k);
         if (f > 0.0) c.creep_slip[k] = std::max(c.creep_slip[k], equilibrium_slip(std::min(1.0, f + p_.aging_margin)));
     }
@@ -70,7 +70,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
     // Serial loop in slot order: deterministic, and cheap next to the relaxation cycles.
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
-        if (grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
+        if (grp[c.i[k]] != soil_group_ || grp[c.j[k]] != soil_group_) continue;
         const ContactLaw& law = world.contact_law_of(k);
         const double fs = c.shear_force[k].norm();
         // A Mohr-Coulomb bond holds its contact: no slider, so no delayed slip while it
@@ -105,7 +105,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
         if (c.bonded[k]) {
             ++bonded;
             double dmg = c.damage[k];
-            if (p_.bond_corrosion_b1_per_s > 0.0) {
+            if (p_.bond_corrosion_rate_b1_per_s > 0.0) {
                 const double fn = c.normal_force[k];
                 const double tn = c.bond_normal_strength[k], ss = c.bond_shear_strength[k];
                 if (coulomb_bond) {
@@ -130,7 +130,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                             bond_neck_moment_limit(law.rolling_friction, law.bond_rolling_friction, r_bar, fn, d);
                         return std::max(rho, limit > 0.0 ? m / limit : 0.0);
                     };
-                    auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
+                    auto rate_at = [&](double r) { return p_.bond_corrosion_rate_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
                     double left = dt;
                     bool grew = false;
                     while (left > 0.0 && dmg < 1.0) {
@@ -149,7 +149,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                 } else {
                     const double rho = bond_utilisation(fn, fs, tn, ss, 0.0, law.friction, 0.0);
                     if (rho > p_.bond_corrosion_threshold) {
-                        dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
+                        dmg = std::min(1.0, dmg + p_.bond_corrosion_rate_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
                         ++out.bonds_damaged;
                         if constexpr (kApply) c.damage[k] = dmg;
                     }

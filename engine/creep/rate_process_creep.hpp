@@ -31,22 +31,9 @@
 #include <type_traits>
 
 #include "engine/core/world.hpp"
+#include "engine/creep/rate_process_params.hpp"
 
 namespace triax::creep {
-
-struct RateProcessParams {
-    double slip_rate_a_m_s = 0.0;         // A
-    double slip_beta = 6.0;               // beta
-    double slip_capacity_m = 10.0e-6;     // s_h
-    double capacity_offset = 0.05;        // eps: capacity at sliding = s_h / eps
-    double aging_margin = 0.0;            // rise of mobilisation an aged contact bears without creep
-    double wear_length_m = 0.0;           // s_w, 0 = no wear
-    double wear_max = 0.0;                // D_max
-    double bond_corrosion_b1_per_s = 0.0; // b1
-    double bond_corrosion_b2 = 10.0;      // b2
-    double bond_corrosion_threshold = 0.9;
-    int soil_group = 0;
-};
 
 struct CreepUpdateSummary {
     double dissipated_j = 0.0;         // spring energy relaxed by delayed slip
@@ -59,7 +46,8 @@ struct CreepUpdateSummary {
 
 class RateProcessCreep {
 public:
-    explicit RateProcessCreep(const RateProcessParams& p);
+    // Acts on the contacts between particles of group soil_group.
+    explicit RateProcessCreep(const RateProcessParams& p, int soil_group = 0);
 
     // Ages every soil contact at its present load: its creep slip becomes the equilibrium
     // slip of its present mobilisation plus the aging margin (contact aging, Dieterich
@@ -75,7 +63,7 @@ public:
     CreepUpdateSummary advance(World& world, double dt_s) const;
 
     double equilibrium_slip(double mobilisation) const {
-        return p_.slip_capacity_m * mobilisation / (1.0 - mobilisation + p_.capacity_offset);
+        return p_.slip_hardening_length_m * mobilisation / (1.0 - mobilisation + p_.capacity_offset);
     }
 
 private:
@@ -83,6 +71,7 @@ private:
     template <bool kApply>
     CreepUpdateSummary update(std::conditional_t<kApply, World&, const World&> world, double dt_s) const;
     RateProcessParams p_;
+    int soil_group_;
 };
 
 }  // namespace triax::creep

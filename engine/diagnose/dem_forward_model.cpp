@@ -125,9 +125,9 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
             // contacts). Measured on the reduced specimens: docs/diagnosis.md section 8.7.
             std::vector<ParameterSpec> p{{"grain_crushability", "-", 0.0, kCrushabilityMax, 1.0, false, true}};
             // Bond damage under load (stress corrosion of the bonds in the creep holds,
-            // breakage_damage_scale = 1 + extra): only creep curves of a bonded specimen
+            // bond_corrosion_scale = 1 + extra): only creep curves of a bonded specimen
             // can see it; off at 0 as well.
-            if (creep_in_lab_ && bonded_ && !base_.effects.grain_breakage)
+            if (creep_in_lab_ && bonded_ && !base_.effects.accelerated_bond_corrosion)
                 p.push_back({"extra_bond_damage_rate", "-", 0.0, 9.0, 1.0, false, true});
             return p;
         }
@@ -169,8 +169,8 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
                 if (v[0] < 0.0) throw std::invalid_argument("grain_crushability must be >= 0");
                 s.micro.crushing_strength_pa = v[0] > 0.0 ? kCrushabilityReferencePa / v[0] : 0.0;
                 if (v.size() > 1 && v[1] > 0.0) {
-                    s.effects.grain_breakage = true;
-                    s.effects.breakage_damage_scale = 1.0 + v[1];
+                    s.effects.accelerated_bond_corrosion = true;
+                    s.effects.bond_corrosion_scale = 1.0 + v[1];
                 }
                 break;
             case Effect::ContactCreepViscosity:

@@ -17,7 +17,7 @@
 //   bond_degradation        -> grain crushing: crushability x = 0.6 MPa / sigma0 (0..2, 0 =
 //                              unbreakable), micro.crushing_strength_pa = 0.6 MPa / x; with
 //                              creep curves of a bonded specimen also extra bond damage e
-//                              (0..9): effects.grain_breakage, breakage_damage_scale 1 + e
+//                              (0..9): effects.accelerated_bond_corrosion, bond_corrosion_scale 1 + e
 //   contact_creep_viscosity -> contact_creep_viscosity, viscosity_scale (log 0.01..100)
 //   moisture_bonding        -> moisture_bonding; one parameter: bond strength scale at the
 //                              scheme's moisture (log 0.05..20)

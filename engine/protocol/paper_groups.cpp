@@ -59,7 +59,7 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     s.micro.bond_rolling_friction = kPaperBondRollingFriction;
     s.micro.bond_normal_strength_pa = kPaperBondStrengthPa;
     s.micro.bond_shear_strength_pa = kPaperBondStrengthPa;
-    s.creep.damage_rate_b1_per_s = kPaperBondCorrosionB1PerS;
+    s.creep.bond_corrosion_rate_b1_per_s = kPaperBondCorrosionB1PerS;
     // The paper's groups last about 10 days for 4 stages: 2.5 days per stage.
     s.loading.stage_durations_s = {2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0};
     return s;

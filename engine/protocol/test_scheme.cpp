@@ -51,7 +51,7 @@ void TestScheme::validate() const {
     require(creep.aging_margin >= 0.0 && creep.aging_margin <= 1.0, "creep.aging_margin", "must be in [0, 1]");
     require(creep.wear_length_m >= 0.0, "creep.wear_length_m", "must be >= 0");
     require(creep.wear_max >= 0.0 && creep.wear_max < 1.0, "creep.wear_max", "must be in [0, 1)");
-    require(creep.damage_rate_b1_per_s >= 0.0, "creep.damage_rate_b1_per_s", "must be >= 0");
+    require(creep.bond_corrosion_rate_b1_per_s >= 0.0, "creep.bond_corrosion_rate_b1_per_s", "must be >= 0");
     require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,
             "creep.max_relaxation_per_increment", "must be in (0, 1]");
     require(creep.first_increment_s > 0.0, "creep.first_increment_s", "must be > 0");

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/creep/rate_process_params.hpp"
+
 namespace triax::protocol {
 
 // Cylindrical specimen (paper: 100 mm x 200 mm, compaction 93 % of 2.21 g/cm^3).
@@ -77,29 +79,10 @@ struct MicroParameters {
     bool crushing_breaks_bond = false;
 };
 
-// Time-dependent contact mechanism (docs/creep.md): rate-process delayed slip at the
-// frictional contacts with asperity wear (slip weakening), plus stress corrosion of the
-// contact bonds.
-
-struct CreepLawParameters {
-    // Rate process: slip rate v = v0 * exp(-dE/kT) * sinh(f / f_ref) applied to the
-    // mobilised friction ratio f = |Fs| / (mu Fn). Lumped here as v = A sinh(beta f).
-    double slip_rate_a_m_s = 5.0e-21;      // A (m/s): rate at sliding ~ A e^beta / 2 = 2.7e-8 m/s
-    double slip_beta = 30.0;               // beta = mu / a of rate-and-state friction (docs/creep.md)
-    // Delayed-slip capacity s_eq = s_h f / (1 - f + eps) (docs/creep.md).
-    double slip_hardening_length_m = 2.0e-6;   // s_h
-    double capacity_offset = 0.5;              // eps: capacity at sliding is s_h / eps
-    // Contact aging: a contact held for a stage (or the consolidation) bears this rise of
-    // its mobilisation before it creeps again (static friction grows with hold time).
-    double aging_margin = 0.2;
-    // Asperity wear by creep slip: D = D_max (1 - exp(-slip / s_w)), friction mu (1 - D).
-    double wear_length_m = 20.0e-6;        // s_w
-    double wear_max = 0.5;                 // D_max
-    // Stress corrosion of contact bonds: dD/dt = b1 exp(b2 rho) when rho > threshold,
-    // rho = bond load / bond strength.
-    double damage_rate_b1_per_s = 1.0e-9;
-    double damage_b2 = 10.0;
-    double damage_threshold = 0.9;
+// The creep section of a scheme: the time-dependent contact law (engine/creep/
+// rate_process_creep.hpp: delayed slip with asperity wear, stress corrosion of the bonds;
+// its fields and defaults are the law's own) and the stages' physical-time schedule.
+struct CreepLawParameters : creep::RateProcessParams {
     // Physical-time scheduler.
     double first_increment_s = 1.0;        // first time increment of a creep stage
     double increment_growth = 1.25;        // geometric growth of increments
@@ -129,10 +112,10 @@ struct LoadingSpec {
 struct TestEffects {
     bool rolling_resistance = false;
     double rolling_friction = 0.1;
-    bool grain_breakage = false;                   // bond degradation under load (extra damage)
-    double breakage_damage_scale = 1.0;
+    bool accelerated_bond_corrosion = false;       // bonds corrode faster under load (bond degradation)
+    double bond_corrosion_scale = 1.0;             // x creep.bond_corrosion_rate_b1_per_s when on
     bool contact_creep_viscosity = true;           // the creep mechanism itself (off = no creep)
-    double viscosity_scale = 1.0;                  // multiplies slip_rate_a and damage_rate_b1
+    double viscosity_scale = 1.0;                  // multiplies slip_rate_a and bond_corrosion_rate_b1
     bool moisture_bonding = true;                  // moisture -> bond strength relation
     bool seating_error = false;                    // bedding: extra axial displacement at start of loading
     double seating_displacement_m = 0.5e-3;

@@ -233,21 +233,15 @@ TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& obs, Phase l
         CreepHold holder(sp, sigma3, hold_servo, scheme.loading.consolidation_tolerance);
 
         // ---- multi-stage creep in physical time --------------------------------
-        creep::RateProcessParams cp;
+        // The scheme's law with the diagnosis effects applied: the creep effect scales the
+        // law's rates (off: no creep), accelerated corrosion scales the bonds' corrosion rate.
+        creep::RateProcessParams cp = scheme.creep;
         const double vs = scheme.effects.contact_creep_viscosity ? scheme.effects.viscosity_scale : 0.0;
         cp.slip_rate_a_m_s = scheme.creep.slip_rate_a_m_s * vs;
-        cp.slip_beta = scheme.creep.slip_beta;
-        cp.slip_capacity_m = scheme.creep.slip_hardening_length_m;
-        cp.capacity_offset = scheme.creep.capacity_offset;
-        cp.aging_margin = scheme.creep.aging_margin;
-        cp.wear_length_m = scheme.creep.wear_length_m;
-        cp.wear_max = scheme.creep.wear_max;
-        cp.bond_corrosion_b1_per_s = scheme.creep.damage_rate_b1_per_s * vs *
-                                     (scheme.effects.grain_breakage ? scheme.effects.breakage_damage_scale : 1.0);
-        cp.bond_corrosion_b2 = scheme.creep.damage_b2;
-        cp.bond_corrosion_threshold = scheme.creep.damage_threshold;
-        cp.soil_group = kSoilGroup;
-        creep::RateProcessCreep creep_law(cp);
+        cp.bond_corrosion_rate_b1_per_s =
+            scheme.creep.bond_corrosion_rate_b1_per_s * vs *
+            (scheme.effects.accelerated_bond_corrosion ? scheme.effects.bond_corrosion_scale : 1.0);
+        creep::RateProcessCreep creep_law(cp, kSoilGroup);
         const double hc = sp.height();  // reference height of the creep test
         const double z_top0 = sp.top_z();
         const double H = scheme.specimen.height_m;

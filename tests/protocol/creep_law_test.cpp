@@ -31,10 +31,18 @@ World two_spheres() {
 }
 }  // namespace
 
+// A fast law on one contact (rates of nm/s, not the paper's calibration), no aging, no wear,
+// no corrosion: each test switches on what it checks.
 static creep::RateProcessParams base() {
     creep::RateProcessParams p;
     p.slip_rate_a_m_s = 3e-9;
-    p.slip_capacity_m = 1e-5;
+    p.slip_beta = 6.0;
+    p.slip_hardening_length_m = 1e-5;
+    p.capacity_offset = 0.05;
+    p.aging_margin = 0.0;
+    p.wear_length_m = 0.0;
+    p.wear_max = 0.0;
+    p.bond_corrosion_rate_b1_per_s = 0.0;
     return p;
 }
 
@@ -95,7 +103,7 @@ TEST_CASE("at fixed mobilisation the slip does not depend on how the period is s
         World w = two_spheres();
         w.contacts().shear_force[0] = Vec3(0, 0.5 * 0.4 * w.contacts().normal_force[0], 0);
         auto p = base();
-        p.slip_capacity_m = 1e-9;
+        p.slip_hardening_length_m = 1e-9;
         creep::RateProcessCreep law(p);
         for (int k = 0; k < pieces; ++k) law.advance(w, 600.0 / pieces);
         return w.contacts().creep_slip[0];
@@ -165,8 +173,9 @@ TEST_CASE("bond corrosion grows only above its load threshold", "[protocol][cree
         c.bond_shear_strength[0] = 10.0;
         c.bond_normal_strength[0] = 10.0;
         c.shear_force[0] = Vec3(0, rho * 10.0, 0);
-        creep::RateProcessParams p;
-        p.bond_corrosion_b1_per_s = 1e-6;
+        auto p = base();
+        p.slip_rate_a_m_s = 0.0;
+        p.bond_corrosion_rate_b1_per_s = 1e-6;
         p.bond_corrosion_threshold = 0.9;
         creep::RateProcessCreep law(p);
         const auto s = law.advance(w, 3600.0);
@@ -184,7 +193,7 @@ TEST_CASE("a Mohr-Coulomb bond corrodes ever faster until it breaks, whatever th
     // Strength 1.0 + 0.4 x 1 = 1.4 N: rho = 0.857.
     auto bonded_pair = [] { return held_bonded_pair(1.2); };
     auto p = base();  // delayed slip on: a bonded contact must not use it
-    p.bond_corrosion_b1_per_s = 1e-9;
+    p.bond_corrosion_rate_b1_per_s = 1e-9;
     p.bond_corrosion_b2 = 10.0;
     p.bond_corrosion_threshold = 0.8;
     creep::RateProcessCreep law(p);
@@ -232,7 +241,7 @@ TEST_CASE("a bond whose cement neck is loaded near its limit corrodes; a lightly
         return w;
     };
     auto p = base();
-    p.bond_corrosion_b1_per_s = 1e-9;
+    p.bond_corrosion_rate_b1_per_s = 1e-9;
     p.bond_corrosion_b2 = 10.0;
     p.bond_corrosion_threshold = 0.8;
     creep::RateProcessCreep law(p);

@@ -44,7 +44,7 @@ TEST_CASE("scheme round trip keeps every field", "[protocol][io]") {
     CHECK(j["micro"]["bond_shear_strength_kPa"].get<double>() == Approx(500.0));
     CHECK(j["micro"]["bond_friction"].get<double>() == Approx(0.4));
     CHECK(j["micro"]["crushing_breaks_bond"].get<bool>());
-    CHECK(j["creep"]["damage_rate_b1_per_s"].get<double>() == Approx(3e-10));
+    CHECK(j["creep"]["bond_corrosion_rate_b1_per_s"].get<double>() == Approx(3e-10));
     CHECK(j["micro"]["crushing_reference_diameter_mm"].get<double>() == Approx(10.0));
     CHECK(back.micro.crushing_hardening_ratio == Approx(s.micro.crushing_hardening_ratio));
     CHECK(protocol::TestScheme{}.micro.crushing_strength_pa == 0.0);  // scheme default: unbreakable
