@@ -22,8 +22,8 @@
 // breakage energy (EnergyLedger::breakage): the work that went into new fracture surface
 // and fragment rearrangement, dissipated, not stored.
 //
-// The engine's contact loop already shifts each ball-ball contact's spring zero by
-// ContactStore::creep_normal_offset (kept while the grains overlap, reset when they
+// The engine's contact loop shifts each ball-ball contact's spring zero by
+// ContactStore::plastic_overlap (kept while the grains overlap, reset when they
 // separate), so delta_p lives there and crush_contacts() applies the return map between
 // force cycles (a few steps' lag at quasi-static rates).
 #include <algorithm>
@@ -96,11 +96,11 @@ inline CrushSummary crush_contacts(ContactStore& c, const ParticleArrays& pa, in
         const int i = c.i[k], j = c.j[k];
         if (i >= n_grains || j >= n_grains) continue;
         const double dist = (pa.position[j] - pa.position[i]).norm();
-        const double delta_p = c.creep_normal_offset[k];
+        const double delta_p = c.plastic_overlap[k];
         const double delta_e = pa.radius[i] + pa.radius[j] - dist + c.reference_gap[k] - delta_p;
         const CrushStep s = crush_return_map(delta_e, delta_p, std::min(crush_force[i], crush_force[j]), kn, h);
         if (s.plastic_increment <= 0.0) continue;
-        c.creep_normal_offset[k] = delta_p + s.plastic_increment;
+        c.plastic_overlap[k] = delta_p + s.plastic_increment;
         c.normal_force[k] -= kn * s.plastic_increment;
         if (breaks_bond && c.bonded[k]) {
             c.bonded[k] = 0;

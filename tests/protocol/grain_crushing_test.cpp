@@ -92,7 +92,7 @@ TEST_CASE("crushing contact: plastic overlap stays after unloading (lost volume)
         pa.position[1].z() = 2 * r - 1.0e-6 * step;
         dissipated += crush_contacts(c, pa, 2, f_c, kn, h).dissipated_j;
     }
-    const double delta_p = c.creep_normal_offset[0];
+    const double delta_p = c.plastic_overlap[0];
     const double f_el = kn * (1.0e-4 - delta_p);
     // The contact force is held near the weaker grain's yield line, far below 100 N.
     CHECK(f_el == Approx(30.0 + h * kn * delta_p).epsilon(1e-9));
@@ -106,7 +106,7 @@ TEST_CASE("crushing contact: plastic overlap stays after unloading (lost volume)
     // Unloading is elastic: at 1e-4 - f_el/kn the force is zero, and delta_p remains.
     pa.position[1].z() = 2 * r - 1.0e-4 + f_el / kn + 1.0e-9;
     CHECK(crush_contacts(c, pa, 2, f_c, kn, h).crushing == 0);
-    CHECK(c.creep_normal_offset[0] == delta_p);
+    CHECK(c.plastic_overlap[0] == delta_p);
     // Contacts with a non-grain particle (index >= n_grains) are never crushed.
     pa.position[1].z() = 2 * r - 5.0e-4;
     CHECK(crush_contacts(c, pa, 1, f_c, kn, h).crushing == 0);
