@@ -165,9 +165,6 @@ Specimen::Specimen(const Specimen& o)
       r_mean_(o.r_mean_),
       soil_count_(o.soil_count_),
       crush_force_(o.crush_force_),
-      fatigue_damage_(o.fatigue_damage_),
-      crush_force_now_(o.crush_force_now_),
-      fatigue_life_scale_(o.fatigue_life_scale_),
       crushing_on_(o.crushing_on_),
       crushing_events_(o.crushing_events_),
       cancelled_(o.cancelled_),
@@ -216,41 +213,7 @@ void Specimen::set_laws(bool friction_on) {
 
 void Specimen::install_test_laws() { set_laws(true); }
 
-void Specimen::enable_crushing() {
-    crushing_on_ = !crush_force_.empty();
-    fatigue_damage_.assign(crush_force_.size(), 0.0);
-    crush_force_now_ = crush_force_;
-    // Brittle lifetime law t_f = B S^(n-2) sigma^-n: at a fixed ratio r = sigma / S the life
-    // goes as S^-2, so a grain's t0 scales with (S_i / sigma0)^-2 (no new random numbers).
-    fatigue_life_scale_.assign(crush_force_.size(), 1.0);
-    const double s_ref = scheme_.micro.crushing_strength_pa;
-    for (std::size_t i = 0; i < crush_force_.size() && s_ref > 0.0; ++i) {
-        const double d = 2.0 * world_.particles().radius[i];
-        fatigue_life_scale_[i] = triax::fatigue_life_scale(crush_force_[i] / (d * d), s_ref);
-    }
-}
-
-namespace {
-// Each grain's drive ratio for the fatigue law p (grain_crushing.hpp).
-std::vector<double> drive_ratios(const World& w, int n_grains, const std::vector<double>& f_c, const GrainFatigueParams& p) {
-    std::vector<double> ratio;
-    grain_drive_ratios(w.contacts(), &w.wall_contacts(), &w.particles(), n_grains, f_c, p.drive, ratio);
-    return ratio;
-}
-}  // namespace
-
-FatigueSummary Specimen::advance_fatigue(double dt, const GrainFatigueParams& p, bool apply) {
-    if (!crushing_on_ || !p.enabled()) return {};
-    return fatigue_grains(drive_ratios(world_, soil_count_, crush_force_, p), p.strength_spread ? &fatigue_life_scale_ : nullptr,
-                          crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
-}
-
-long Specimen::fail_short_lived_grains(const GrainFatigueParams& p) {
-    if (!crushing_on_ || !p.enabled() || p.instant_life_s <= 0.0) return 0;
-    return triax::fail_short_lived_grains(drive_ratios(world_, soil_count_, crush_force_, p),
-                                          p.strength_spread ? &fatigue_life_scale_ : nullptr, crush_force_, fatigue_damage_,
-                                          crush_force_now_, p);
-}
+void Specimen::enable_crushing() { crushing_on_ = !crush_force_.empty(); }
 
 long Specimen::install_soil_bonds() {
     // No cement, no bond: a zero-strength bond would still act as a Mohr-Coulomb contact
@@ -268,10 +231,8 @@ long Specimen::install_soil_bonds() {
         if (world_.particles().group[a] != kSoilGroup || world_.particles().group[b] != kSoilGroup) continue;
         const double rmin = std::min(r[a], r[b]);
         const double cross_section = kPi * rmin * rmin;
-        // Cemented under load: the consolidation force adds to the cement's strength.
-        const double under_load = scheme_.micro.bond_load_ratio * std::max(c.normal_force[k], 0.0);
-        c.bond_normal_strength[k] = factor * (scheme_.micro.bond_normal_strength_pa * cross_section + under_load);
-        c.bond_shear_strength[k] = factor * (scheme_.micro.bond_shear_strength_pa * cross_section + under_load);
+        c.bond_normal_strength[k] = factor * (scheme_.micro.bond_normal_strength_pa * cross_section);
+        c.bond_shear_strength[k] = factor * (scheme_.micro.bond_shear_strength_pa * cross_section);
         ++n;
     }
     return n;
@@ -286,10 +247,8 @@ void Specimen::cycle(long n, double confining_pa) {
         const auto& omega = world_.particles().angular_velocity;
         for (std::size_t i = 0; i < rotation_.size(); ++i) rotation_[i] += omega[i] * (m * world_.time_step());
         if (crushing_on_) {
-            const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_now_,
+            const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_,
                                                   soil_kn_, scheme_.micro.crushing_hardening_ratio,
-                                                  scheme_.micro.crushing_friction_loss,
-                                                  scheme_.micro.crushing_residual_ratio,
                                                   scheme_.micro.crushing_breaks_bond);
             crushing_events_ += c.crushing;
             world_.energy().breakage += c.dissipated_j;

@@ -60,19 +60,6 @@ public:
     long crushing_events() const { return crushing_events_; }
     // Grain i's crushing force F_c (N); empty when crushing is off.
     const std::vector<double>& crushing_forces() const { return crush_force_; }
-    // Static fatigue of crushable grains over a creep increment dt (grain_crushing.hpp):
-    // grows each grain's damage at its present peak contact force and lowers its crushing
-    // force to F_c (1 - D) for the return map of the next cycles. apply = false: dry run.
-    // The drive (peak force or grain stress) and the life scale follow p (GrainFatigueParams).
-    FatigueSummary advance_fatigue(double dt, const GrainFatigueParams& p, bool apply = true);
-    // Instantaneous crushing (p.instant_life_s > 0): grains whose life at the present forces
-    // is shorter than that fail now; returns how many (the caller relaxes and repeats).
-    long fail_short_lived_grains(const GrainFatigueParams& p);
-    // Grain i's life scale t0_i / t0 = (S_i / sigma0)^-2 (brittle lifetime law; used when
-    // p.strength_spread), S_i = F_c,i / d_i^2; empty when crushing is off.
-    const std::vector<double>& fatigue_life_scale() const { return fatigue_life_scale_; }
-    // Grain i's fatigue damage D (empty when crushing is off).
-    const std::vector<double>& fatigue_damage() const { return fatigue_damage_; }
 
     // Displacement and rotation reference: the positions now, rotations zeroed (the start
     // of consolidation). Rotations accumulate over cycle() (omega dt at each membrane update).
@@ -108,9 +95,6 @@ private:
     double r_mean_ = 0.0;
     int soil_count_ = 0;
     std::vector<double> crush_force_;  // N, per soil grain (Weibull strength x d^2)
-    std::vector<double> fatigue_damage_;      // D per soil grain (static fatigue)
-    std::vector<double> crush_force_now_;     // N, F_c (1 - D): what the return map uses
-    std::vector<double> fatigue_life_scale_;  // (S_i / sigma0)^-2 per soil grain
     bool crushing_on_ = false;
     long crushing_events_ = 0;
     std::function<bool()> cancelled_;

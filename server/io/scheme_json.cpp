@@ -56,7 +56,6 @@ const std::vector<NumberField>& number_fields() {
         {"micro", "bond_normal_strength_kPa", "micro.bond_normal_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_normal_strength_pa; }, 1e3},
         {"micro", "bond_shear_strength_kPa", "micro.bond_shear_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_shear_strength_pa; }, 1e3},
         {"micro", "bond_friction", "micro.bond_friction", [](TestScheme& s) -> double& { return s.micro.bond_friction; }, 1.0},
-        {"micro", "bond_load_ratio", "micro.bond_load_ratio", [](TestScheme& s) -> double& { return s.micro.bond_load_ratio; }, 1.0},
         {"micro", "bond_rolling_friction", "micro.bond_rolling_friction", [](TestScheme& s) -> double& { return s.micro.bond_rolling_friction; }, 1.0},
         {"micro", "membrane_particle_radius_mm", "micro.membrane_particle_radius_m", [](TestScheme& s) -> double& { return s.micro.membrane_particle_radius_m; }, 1e-3},
         {"micro", "membrane_stiffness_N_m", "micro.membrane_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.membrane_stiffness_n_m; }, 1.0},
@@ -65,28 +64,16 @@ const std::vector<NumberField>& number_fields() {
         {"micro", "crushing_reference_diameter_mm", "micro.crushing_reference_diameter_m", [](TestScheme& s) -> double& { return s.micro.crushing_reference_diameter_m; }, 1e-3},
         {"micro", "crushing_weibull_modulus", "micro.crushing_weibull_modulus", [](TestScheme& s) -> double& { return s.micro.crushing_weibull_modulus; }, 1.0},
         {"micro", "crushing_hardening_ratio", "micro.crushing_hardening_ratio", [](TestScheme& s) -> double& { return s.micro.crushing_hardening_ratio; }, 1.0},
-        {"micro", "crushing_residual_ratio", "micro.crushing_residual_ratio", [](TestScheme& s) -> double& { return s.micro.crushing_residual_ratio; }, 1.0},
-        {"micro", "crushing_friction_loss", "micro.crushing_friction_loss", [](TestScheme& s) -> double& { return s.micro.crushing_friction_loss; }, 1.0},
         {"creep", "slip_rate_a_m_s", "creep.slip_rate_a_m_s", [](TestScheme& s) -> double& { return s.creep.slip_rate_a_m_s; }, 1.0},
         {"creep", "slip_beta", "creep.slip_beta", [](TestScheme& s) -> double& { return s.creep.slip_beta; }, 1.0},
-        {"creep", "slip_capacity_um", "creep.slip_hardening_length_m", [](TestScheme& s) -> double& { return s.creep.slip_hardening_length_m; }, 1e-6},
+        {"creep", "slip_hardening_length_um", "creep.slip_hardening_length_m", [](TestScheme& s) -> double& { return s.creep.slip_hardening_length_m; }, 1e-6},
         {"creep", "capacity_offset", "creep.capacity_offset", [](TestScheme& s) -> double& { return s.creep.capacity_offset; }, 1.0},
         {"creep", "aging_margin", "creep.aging_margin", [](TestScheme& s) -> double& { return s.creep.aging_margin; }, 1.0},
-        {"creep", "critical_mobilisation", "creep.critical_mobilisation", [](TestScheme& s) -> double& { return s.creep.critical_mobilisation; }, 1.0},
-        {"creep", "flow_rate_scale", "creep.flow_rate_scale", [](TestScheme& s) -> double& { return s.creep.flow_rate_scale; }, 1.0},
         {"creep", "wear_length_um", "creep.wear_length_m", [](TestScheme& s) -> double& { return s.creep.wear_length_m; }, 1e-6},
         {"creep", "wear_max", "creep.wear_max", [](TestScheme& s) -> double& { return s.creep.wear_max; }, 1.0},
-        {"creep", "flow_wear_length_um", "creep.flow_wear_length_m", [](TestScheme& s) -> double& { return s.creep.flow_wear_length_m; }, 1e-6},
-        {"creep", "slow_slip_wear_max", "creep.slow_slip_wear_max", [](TestScheme& s) -> double& { return s.creep.slow_slip_wear_max; }, 1.0},
-        {"creep", "slow_slip_wear_length_um", "creep.slow_slip_wear_length_m", [](TestScheme& s) -> double& { return s.creep.slow_slip_wear_length_m; }, 1e-6},
-        {"creep", "damage_rate_b1_per_s", "creep.damage_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.damage_rate_b1_per_s; }, 1.0},
-        {"creep", "damage_b2", "creep.damage_b2", [](TestScheme& s) -> double& { return s.creep.damage_b2; }, 1.0},
-        {"creep", "damage_threshold", "creep.damage_threshold", [](TestScheme& s) -> double& { return s.creep.damage_threshold; }, 1.0},
-        {"creep", "corroded_bond_friction_loss", "creep.corroded_bond_friction_loss", [](TestScheme& s) -> double& { return s.creep.corroded_bond_friction_loss; }, 1.0},
-        {"creep", "grain_fatigue_time_s", "creep.grain_fatigue_time_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_time_s; }, 1.0},
-        {"creep", "grain_fatigue_exponent", "creep.grain_fatigue_exponent", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_exponent; }, 1.0},
-        {"creep", "grain_fatigue_ratio_cap", "creep.grain_fatigue_ratio_cap", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_ratio_cap; }, 1.0},
-        {"creep", "grain_fatigue_instant_life_s", "creep.grain_fatigue_instant_life_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_instant_life_s; }, 1.0},
+        {"creep", "bond_corrosion_rate_b1_per_s", "creep.bond_corrosion_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_rate_b1_per_s; }, 1.0},
+        {"creep", "bond_corrosion_b2", "creep.bond_corrosion_b2", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_b2; }, 1.0},
+        {"creep", "bond_corrosion_threshold", "creep.bond_corrosion_threshold", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_threshold; }, 1.0},
         {"creep", "first_increment_s", "creep.first_increment_s", [](TestScheme& s) -> double& { return s.creep.first_increment_s; }, 1.0},
         {"creep", "increment_growth", "creep.increment_growth", [](TestScheme& s) -> double& { return s.creep.increment_growth; }, 1.0},
         {"creep", "max_increment_s", "creep.max_increment_s", [](TestScheme& s) -> double& { return s.creep.max_increment_s; }, 1.0},
@@ -99,7 +86,7 @@ const std::vector<NumberField>& number_fields() {
         {"loading", "consolidation_tolerance", "loading.consolidation_tolerance", [](TestScheme& s) -> double& { return s.loading.consolidation_tolerance; }, 1.0},
         {"loading", "max_inertial_number", "loading.max_inertial_number", [](TestScheme& s) -> double& { return s.loading.max_inertial_number; }, 1.0},
         {"effects", "rolling_friction", "effects.rolling_friction", [](TestScheme& s) -> double& { return s.effects.rolling_friction; }, 1.0},
-        {"effects", "breakage_damage_scale", "effects.breakage_damage_scale", [](TestScheme& s) -> double& { return s.effects.breakage_damage_scale; }, 1.0},
+        {"effects", "bond_corrosion_scale", "effects.bond_corrosion_scale", [](TestScheme& s) -> double& { return s.effects.bond_corrosion_scale; }, 1.0},
         {"effects", "viscosity_scale", "effects.viscosity_scale", [](TestScheme& s) -> double& { return s.effects.viscosity_scale; }, 1.0},
         {"effects", "seating_displacement_mm", "effects.seating_displacement_m", [](TestScheme& s) -> double& { return s.effects.seating_displacement_m; }, 1e-3},
         {"effects", "membrane_modulus_kPa", "effects.membrane_modulus_pa", [](TestScheme& s) -> double& { return s.effects.membrane_modulus_pa; }, 1e3},
@@ -111,14 +98,13 @@ const std::vector<NumberField>& number_fields() {
 const std::vector<BoolField>& bool_fields() {
     static const std::vector<BoolField> f = {
         {"effects", "rolling_resistance", [](TestScheme& s) -> bool& { return s.effects.rolling_resistance; }},
-        {"effects", "grain_breakage", [](TestScheme& s) -> bool& { return s.effects.grain_breakage; }},
+        {"effects", "accelerated_bond_corrosion", [](TestScheme& s) -> bool& { return s.effects.accelerated_bond_corrosion; }},
         {"effects", "contact_creep_viscosity", [](TestScheme& s) -> bool& { return s.effects.contact_creep_viscosity; }},
         {"effects", "moisture_bonding", [](TestScheme& s) -> bool& { return s.effects.moisture_bonding; }},
         {"effects", "seating_error", [](TestScheme& s) -> bool& { return s.effects.seating_error; }},
         {"effects", "membrane_compliance", [](TestScheme& s) -> bool& { return s.effects.membrane_compliance; }},
         {"micro", "crushing_breaks_bond", [](TestScheme& s) -> bool& { return s.micro.crushing_breaks_bond; }},
         {"loading", "stop_at_softening", [](TestScheme& s) -> bool& { return s.loading.stop_at_softening; }},
-        {"creep", "grain_fatigue_strength_spread", [](TestScheme& s) -> bool& { return s.creep.grain_fatigue_strength_spread; }},
     };
     return f;
 }
@@ -240,8 +226,7 @@ TestScheme scheme_from_json(const json& j) {
             for (const auto& f : number_fields()) known = known || (sec == f.section && k == f.key);
             for (const auto& f : bool_fields()) known = known || (sec == f.section && k == f.key);
             known = known || (sec == "gradation" && (k == "kind" || k == "sieve_curve")) ||
-                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition")) ||
-                    (sec == "creep" && k == "grain_fatigue_drive");
+                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition"));
             if (!known) throw SchemeError(ptr(sec, k), "unknown field");
         }
     }
@@ -295,13 +280,6 @@ TestScheme scheme_from_json(const json& j) {
             else throw SchemeError("/loading/stress_level_definition", "must be \"q_over_qf\" or \"eq1\"");
         }
     }
-    if (j.contains("creep") && j["creep"].contains("grain_fatigue_drive")) {
-        const auto& d = j["creep"]["grain_fatigue_drive"];
-        if (d == "capped_peak_force") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::CappedPeakForce;
-        else if (d == "peak_force") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::PeakForce;
-        else if (d == "grain_stress") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::GrainStress;
-        else throw SchemeError("/creep/grain_fatigue_drive", "must be \"capped_peak_force\", \"peak_force\" or \"grain_stress\"");
-    }
     try {
         s.validate();
     } catch (const InputError& e) {
@@ -330,9 +308,6 @@ json scheme_to_json(const TestScheme& s0) {
     j["loading"]["stage_durations_min"] = d;
     j["loading"]["stress_level_definition"] =
         s.loading.stress_level_definition == protocol::StressLevelDefinition::PaperEq1 ? "eq1" : "q_over_qf";
-    j["creep"]["grain_fatigue_drive"] = s.creep.grain_fatigue_drive == protocol::GrainFatigueDrive::GrainStress ? "grain_stress"
-                                        : s.creep.grain_fatigue_drive == protocol::GrainFatigueDrive::PeakForce ? "peak_force"
-                                                                                                               : "capped_peak_force";
     return j;
 }
 
