@@ -219,7 +219,7 @@ long Specimen::install_soil_bonds() {
     // No cement, no bond: a zero-strength bond would still act as a Mohr-Coulomb contact
     // with the bond's friction instead of the grains'.
     const auto& m = scheme_.micro;
-    if (m.bond_normal_strength_pa <= 0.0 && m.bond_shear_strength_pa <= 0.0 && m.bond_load_ratio <= 0.0) return 0;
+    if (m.bond_normal_strength_pa <= 0.0 && m.bond_shear_strength_pa <= 0.0) return 0;
     const double factor = scheme_.effects.moisture_bonding ? creep::bond_strength_factor(scheme_.specimen.moisture_content) : 1.0;
     world_.bond_contacts(kSoilGroup, kSoilGroup, 1.0e-3 * r_mean_, 1.0, 1.0);
     auto& c = world_.contacts();

@@ -67,15 +67,12 @@ SpecimenSnapshot snapshot_of_world(const World& w, const std::string& stage, con
 SpecimenSnapshot snapshot_of(const Specimen& sp, const TestScheme& scheme, const std::string& stage) {
     const World& w = sp.world();
     std::vector<std::uint8_t> crushed(w.particle_count(), 0);
-    const auto& damage = sp.fatigue_damage();
-    for (std::size_t i = 0; i < damage.size() && i < crushed.size(); ++i)
-        if (damage[i] >= kFatigueDamageMax) crushed[i] = 1;
     if (sp.crushing_on()) {
-        // A crushed grain contact keeps its plastic overlap in creep_normal_offset
-        // (grain_crushing.hpp): both grains of such a contact have crushed.
+        // A crushed grain contact keeps its plastic overlap (grain_crushing.hpp): both
+        // grains of such a contact have crushed.
         const auto& c = w.contacts();
         for (std::size_t k = 0; k < c.size(); ++k)
-            if (c.active[k] && c.creep_normal_offset[k] > 0.0 && c.i[k] < sp.soil_count() && c.j[k] < sp.soil_count())
+            if (c.active[k] && c.plastic_overlap[k] > 0.0 && c.i[k] < sp.soil_count() && c.j[k] < sp.soil_count())
                 crushed[c.i[k]] = crushed[c.j[k]] = 1;
     }
     SpecimenSnapshot s = snapshot_of_world(w, stage, sp.reference_positions(), sp.rotation(), crushed);

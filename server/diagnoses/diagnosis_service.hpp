@@ -19,6 +19,10 @@
 #include <mutex>
 #include <optional>
 
+namespace triax::diagnose {
+class DiagnoseObserver;
+}
+
 namespace triax::service {
 
 class DiagnosisService {
