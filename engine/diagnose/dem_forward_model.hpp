@@ -41,9 +41,6 @@ class DiagnoseObserver;
 // 0.6 MPa, x = kCrushabilityMax (0.3 MPa) the weakest offered.
 inline constexpr double kCrushabilityReferencePa = 0.6e6;
 inline constexpr double kCrushabilityMax = 2.0;
-// The calibration specimen's grain cap and shear rate (dem_forward_model.cpp).
-inline constexpr int kCalibrationGrains = 400;
-inline constexpr double kCalibrationInertialNumber = 1.0e-3;
 
 class DemForwardModel final : public ForwardModel {
 public:

@@ -134,16 +134,6 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
             p.mass[q] *= f * f * f;
             p.inertia[q] *= f * f * f * f * f;
         }
-        if (k == kGrowthSteps) {
-            // Exactly the drawn sizes (the product of the growth factors is not, by the
-            // last bits): an exported packing re-imported is then the same specimen.
-            for (int q = 0; q < soil_count_; ++q) {
-                const double r = radii[q];
-                p.radius[q] = r;
-                p.mass[q] = soil_density_ * 4.0 / 3.0 * 3.14159265358979323846 * r * r * r;
-                p.inertia[q] = 0.4 * p.mass[q] * r * r;
-            }
-        }
         world_.invalidate_neighbors();
         poll_cancel();
         world_.cycle(300);

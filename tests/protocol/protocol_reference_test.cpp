@@ -177,12 +177,12 @@ TEST_CASE("reference trajectory: scheme defaults on the reduced specimen", "[pro
     shorten(s, 0.6);
     check_against("defaults", s,
                   {{
-                       {"generation", 7800, 0x24643054ad06d880ull},
-                       {"consolidation", 43800, 0x45f2061d248c7fa3ull},
-                       {"shear", 47650, 0x07f5e07de4bfc596ull},
-                       {"creep-1", 70550, 0xfdcaee605ea0b2d0ull},
+                       {"generation", 8550, 0xd0715dde6d70f20dull},
+                       {"consolidation", 34600, 0x8118101d78ac9477ull},
+                       {"shear", 38500, 0x5d5f175810a6e75bull},
+                       {"creep-1", 52600, 0xbb254f28e6a35e41ull},
                    },
-                   0xc86d5aa886a77e49ull});
+                   0xa977920b0b2e2550ull});
 }
 
 TEST_CASE("reference trajectory: paper group B on the reduced specimen", "[protocol][reference]") {
@@ -195,10 +195,10 @@ TEST_CASE("reference trajectory: paper group B on the reduced specimen", "[proto
     shorten(s, 0.6);
     check_against("group B", s,
                   {{
-                       {"generation", 5550, 0x04ea5f571054ea5aull},
-                       {"consolidation", 111250, 0xd8c4864b418631e8ull},
-                       {"shear", 115050, 0x33d9c3d44cbd60e6ull},
-                       {"creep-1", 121500, 0x204be2c172e11635ull},
+                       {"generation", 7800, 0x1989df4cd9d3baf0ull},
+                       {"consolidation", 62300, 0xd530f0a0d01dc59eull},
+                       {"shear", 66150, 0x59991aa2160d076eull},
+                       {"creep-1", 72500, 0x2356102d0b834b11ull},
                    },
-                   0xbd10ae1fa3cc6f49ull});
+                   0xc47f66c469504fcaull});
 }
