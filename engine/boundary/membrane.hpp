@@ -12,25 +12,6 @@
 
 namespace triax::boundary {
 
-// The membrane sphere radius a scheme gets when it leaves it at 0 (SpecimenBuilder,
-// specimen_budget, run_estimate use this one rule): a quarter of the mean grain radius,
-// at least 1 mm and at most D/20 (a few thousand spheres), but never smaller than the
-// smallest grain. A lattice of spheres smaller than the grains does not hold them: preset B
-// reduced to 150 grains (radii 7.7-15.4 mm) with the D/20 cap (5 mm spheres) never met the
-// consolidation criterion and lost a grain out of the domain after 297k steps; with 7.7 mm
-// or 10 mm spheres it consolidated and went on to shear (docs/web.md, "Schemes that fail").
-inline double automatic_membrane_radius(double grain_r_min_m, double grain_r_mean_m, double specimen_diameter_m) {
-    const double r = grain_r_min_m > 0.25 * grain_r_mean_m ? grain_r_min_m : 0.25 * grain_r_mean_m;
-    const double lo = 1.0e-3, hi = 0.05 * specimen_diameter_m;
-    const double clamped = r < lo ? lo : (r > hi ? hi : r);
-    return clamped > grain_r_min_m ? clamped : grain_r_min_m;
-}
-
-// Largest ratio of the smallest grain's radius to a chosen membrane sphere radius that the
-// lattice holds: 1.2 (the browser test's specimen) and 1.28 (preset B at 150 grains with 6 mm
-// spheres) consolidated; 1.54 (5 mm spheres) lost a grain (see above).
-inline constexpr double kMaxGrainToMembraneRadius = 1.35;
-
 class Membrane {
 public:
     // Adds the spheres to `world` in group `group`. The inner envelope of the membrane
