@@ -1,7 +1,7 @@
 // Creep-law exploration on the reduced CI specimen (or a larger one): runs the creep test
 // with parameters overridden on the command line and prints each stage's summary.
 // Usage: creep_explore [key=value ...]  (keys: bench/reduced_creep_args.hpp; e.g. crush=1
-//        t0=3600 nf=20 for crushable grains with static fatigue)
+//        for the presets' crushable grains and bonds on the reduced specimen)
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -28,16 +28,13 @@ int main(int argc, char** argv) {
         bool pieces = false;
         void creep_increment(const CreepIncrementLog& l) override {
             if (pieces)
-                std::fprintf(stderr, "piece stage %d t %.2f min dt %.1f s cycles %ld crush %ld at_strength %ld failed %ld dDmax %.2e rmax %.3f d %.4f mm\n",
-                             l.stage, l.t_stage_s / 60, l.dt_s, l.hold_cycles, l.crushing_events, l.grains_at_strength,
-                             l.grains_failed, l.max_damage_increment, l.max_force_ratio, l.deformation_m * 1e3);
+                std::fprintf(stderr, "piece stage %d t %.2f min dt %.1f s cycles %ld crush %ld d %.4f mm\n", l.stage,
+                             l.t_stage_s / 60, l.dt_s, l.hold_cycles, l.crushing_events, l.deformation_m * 1e3);
         }
     } trace;
     trace.pieces = args.verbose_level >= 2;
     trace.on = verbose;
-    std::vector<HoldRecord> holds;
-    args.hold.log = &holds;
-    const auto r = run_triaxial_test(s, trace, args.shear_only ? Phase::Shear : Phase::Creep, args.hold);
+    const auto r = run_triaxial_test(s, trace, args.shear_only ? Phase::Shear : Phase::Creep);
     std::printf("q_f %.1f kPa, grains %d, relaxations %ld, total steps %ld, wall %.1f s\n", r.q_failure_pa / 1e3,
                 r.particle_count, r.creep_relaxations, r.total_steps, r.wall_time_s);
     if (args.shear_only) {  // q (kPa) and eps_v (%) at axial strains 1..15 %
@@ -63,26 +60,14 @@ int main(int argc, char** argv) {
                 if (p.time_s <= tm + 1e-6) d = p.axial_deformation_m;
             std::printf(" %.4f", (d - st.instant_deformation_m) * 1e3);
         }
-        // Breakage energy dissipated during the stage (crushing, incl. delayed crushing).
+        // Breakage energy dissipated during the stage (crushing).
         double b0 = -1.0, b1 = 0.0;
         for (const auto& e : r.energies)
             if (e.phase_index == 1 + st.stage) {
                 if (b0 < 0.0) b0 = e.breakage_j;
                 b1 = e.breakage_j;
             }
-        std::printf("  breakage %.3g mJ, failed grains %d (at loading %d)\n", 1e3 * (b1 - std::max(b0, 0.0)), st.failed_grains,
-                    st.instant_failed_grains);
-    }
-    // The creep holds per stage: loading step (ramp) and increments (cycles, at max).
-    for (std::size_t k = 0; k < holds.size();) {
-        const HoldRecord& load = holds[k];
-        long inc = 0, cyc = 0, at_max = 0;
-        for (++k; k < holds.size() && holds[k].target_pa == load.target_pa; ++k, ++inc) {
-            cyc += holds[k].cycles;
-            at_max += holds[k].at_max;
-        }
-        std::printf("holds at %.1f kPa: loading %ld (ramp %ld)%s, %ld increments %ld cycles, %ld at max\n",
-                    load.target_pa / 1e3, load.cycles, load.ramp_cycles, load.at_max ? " at max" : "", inc, cyc, at_max);
+        std::printf("  breakage %.3g mJ\n", 1e3 * (b1 - std::max(b0, 0.0)));
     }
     return 0;
 }

@@ -91,8 +91,8 @@ int main(int argc, char** argv) {
         r.scheme.effects.rolling_friction = 0.3;
         cases.push_back(r);
         Case b{"breakage 3", base};
-        b.scheme.effects.grain_breakage = true;
-        b.scheme.effects.breakage_damage_scale = 3.0;
+        b.scheme.effects.accelerated_bond_corrosion = true;
+        b.scheme.effects.bond_corrosion_scale = 3.0;
         cases.push_back(b);
     }
 

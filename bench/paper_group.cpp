@@ -3,14 +3,9 @@
 // specimen with the preset's DEM gradation (docs/parameters.md, "Paper-group gradation").
 // Reports particle counts, wall time per phase and in total, and the summary.
 // Usage: paper_group [A|B|C|D|E] [threads] [out.json|-] [--shear-only] [--reduced] [--stage-hours H]
-//                    [--at-rest] [--adaptive] [--rest-bound X] [--no-qs-cap]
 // (--reduced: the 50 x 100 mm specimen of the protocol tests, same sigma3, for comparison;
 //  --stage-hours H: every creep stage lasts H hours instead of the preset's 2.5 days, the
-//  short benchmark of docs/engine.md, "Performance of the full-size paper group";
-//  --at-rest: the creep readings at mechanical rest (loading ramp, rest criterion;
-//  HoldOptions::at_rest), else the default holds; --adaptive: the adaptive servo gain;
-//  --rest-bound X: the rest criterion's bound (strain per 1000 cycles);
-//  engine/protocol/creep_hold.hpp, for A/B comparisons)
+//  short benchmark of docs/engine.md, "Performance of the full-size paper group")
 // Run with OMP_WAIT_POLICY=passive on a shared machine (spinning threads steal the core).
 #include <chrono>
 #include <cstdio>
@@ -65,18 +60,7 @@ int main(int argc, char** argv) {
     auto scheme = triax::protocol::paper_group(group);
     if (argc > 2) scheme.threads = std::stoi(argv[2]);
     bool shear_only = false, reduced = false;
-    triax::protocol::HoldOptions hold;
-    std::vector<triax::protocol::HoldRecord> holds;
-    hold.log = &holds;
-    for (int k = 1; k < argc; ++k)
-        if (std::strcmp(argv[k], "--at-rest") == 0) {
-            hold = triax::protocol::HoldOptions::at_rest(false);
-            hold.log = &holds;
-        }
     for (int k = 1; k < argc; ++k) {
-        if (std::strcmp(argv[k], "--adaptive") == 0) hold.adaptive_gain = true;
-        if (std::strcmp(argv[k], "--no-qs-cap") == 0) hold.quasi_static_speed = false;
-        if (std::strcmp(argv[k], "--rest-bound") == 0 && k + 1 < argc) hold.rest_strain_per_kcycle = std::stod(argv[k + 1]);
         shear_only |= std::strcmp(argv[k], "--shear-only") == 0;
         reduced |= std::strcmp(argv[k], "--reduced") == 0;
         if (std::strcmp(argv[k], "--stage-hours") == 0 && k + 1 < argc)
@@ -95,7 +79,7 @@ int main(int argc, char** argv) {
     triax::protocol::TestResult r;
     try {
         r = triax::protocol::run_triaxial_test(scheme, clock,
-                                               shear_only ? triax::protocol::Phase::Shear : triax::protocol::Phase::Creep, hold);
+                                               shear_only ? triax::protocol::Phase::Shear : triax::protocol::Phase::Creep);
     } catch (const std::exception& e) {
         std::printf("group %s failed after %.1f s: %s\n", group.c_str(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), e.what());
@@ -133,32 +117,7 @@ int main(int argc, char** argv) {
                     s.elastic_share, s.share_in_first_30min * 100, s.total_share_in_first_30min * 100, s.converged,
                     s.accelerating, s.ruptured ? s.rupture_time_s / 3600.0 : -1.0, last - first);
     }
-    std::printf("creep relaxations %ld (holds: %s servo gain, loading ramp %s, rest criterion %s (%.1e per 1000 "
-                "cycles), legacy drift criterion %s)\n",
-                r.creep_relaxations, hold.adaptive_gain ? "adaptive" : "base", hold.loading_ramp ? "on" : "off",
-                hold.rest_criterion ? "on" : "off", hold.rest_strain_per_kcycle, hold.drift_criterion ? "on" : "off");
-    // Where the creep holds' cycles go: per stage (target), loading hold and the increments'
-    // holds by size class.
-    {
-        std::size_t k = 0;
-        while (k < holds.size()) {
-            const double target = holds[k].target_pa;
-            long inc = 0, inc_cycles = 0, at_min = 0, small = 0, big = 0, at_max = 0;
-            const long loading = holds[k].cycles, ramp = holds[k].ramp_cycles;
-            for (++k; k < holds.size() && holds[k].target_pa == target; ++k) {
-                ++inc;
-                inc_cycles += holds[k].cycles;
-                at_min += holds[k].cycles <= 150;
-                small += holds[k].cycles > 150 && holds[k].cycles <= 1000;
-                big += holds[k].cycles > 1000;
-                at_max += holds[k].at_max;
-            }
-            std::printf("holds at sigma1 %.1f kPa: loading %ld cycles (ramp %ld)%s; %ld increment holds, %ld cycles (<=150: %ld, "
-                        "151-1000: %ld, >1000: %ld, at max: %ld)\n",
-                        target * 1e-3, loading, ramp, holds[k - inc - 1].at_max ? " (at max)" : "", inc, inc_cycles, at_min,
-                        small, big, at_max);
-        }
-    }
+    std::printf("creep relaxations %ld\n", r.creep_relaxations);
     for (double eps : {0.01, 0.02, 0.04, 0.06, 0.08, 0.10, 0.15})
         for (const auto& p : r.shear)
             if (p.axial_strain >= eps) {

@@ -2,20 +2,16 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: group (A-E: the full-size paper group, given first) h4 (the last stage's hours) A beta sh eps age fc af swf(um) sw dmax ssw ssl(um) cbl b1 b2 fth
-//       bmu (bond friction) blr (bond load ratio) brf (bond rolling friction: the cement neck) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
-//       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio; < 0 softens) cres (residual ratio of a softening contact) cfl (friction loss of a crushed contact) cbb (1: a crushing contact loses its bond) relax t0(s) nf rcap drive(0 capped peak force, 1 peak force, 2 grain stress) inst(instant life, s) spread(1: t0_i ~ S_i^-2) seed dmm rmin_mm
+// Keys: group (A-E: the full-size paper group, given first) h4 (the last stage's hours) A beta sh eps age sw dmax b1 b2 fth
+//       bmu (bond friction) brf (bond rolling friction: the cement neck) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
+//       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio) cbb (1: a crushing contact loses its bond) relax seed dmm rmin_mm
 //       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters: bonds and
-//       crushable grains) s3(kPa) hours shear (1: no creep) verbose; creep holds (engine/protocol/creep_hold.hpp):
-//       rest (1: the convention at rest, HoldOptions::at_rest, with the gain and bound given)
-//       gain (1 adaptive servo gain, 0 base: default) adload ramp restb (rest bound, strain per
-//       1000 cycles) restk (rest window, chunks) drift qs noov
+//       crushable grains) s3(kPa) hours shear (1: no creep) verbose
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <string>
 
-#include "engine/protocol/creep_hold.hpp"
 #include "engine/protocol/paper_groups.hpp"
 #include "engine/protocol/test_scheme.hpp"
 
@@ -29,7 +25,6 @@ struct ReducedCreepArgs {
     bool verbose = false;
     int verbose_level = 0;  // verbose=2: also the per-piece schedule log
     bool shear_only = false;  // shear=1: consolidation and shear only (q_f, no creep)
-    protocol::HoldOptions hold;  // the creep holds' servo and reading convention (default: the protocol's)
 };
 
 // The reduced creep specimen (50 x 100 mm, ~200 grains, 4-h stages, seed 11).
@@ -73,41 +68,20 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "sh") s.creep.slip_hardening_length_m = v;
     else if (k == "eps") s.creep.capacity_offset = v;
     else if (k == "age") s.creep.aging_margin = v;
-    else if (k == "fc") s.creep.critical_mobilisation = v;
-    else if (k == "swf") s.creep.flow_wear_length_m = v * 1e-6;
-    else if (k == "af") s.creep.flow_rate_scale = v;
     else if (k == "sw") s.creep.wear_length_m = v;
-    else if (k == "b2") s.creep.damage_b2 = v;
-    else if (k == "fth") s.creep.damage_threshold = v;
+    else if (k == "b2") s.creep.bond_corrosion_b2 = v;
+    else if (k == "fth") s.creep.bond_corrosion_threshold = v;
     else if (k == "dmax") s.creep.wear_max = v;
-    else if (k == "ssw") s.creep.slow_slip_wear_max = v;
-    else if (k == "ssl") s.creep.slow_slip_wear_length_m = v * 1e-6;
-    else if (k == "cbl") s.creep.corroded_bond_friction_loss = v;
-    else if (k == "b1") s.creep.damage_rate_b1_per_s = v;
+    else if (k == "b1") s.creep.bond_corrosion_rate_b1_per_s = v;
     else if (k == "bmu") s.micro.bond_friction = v;
     else if (k == "brf") s.micro.bond_rolling_friction = v;
-    else if (k == "blr") s.micro.bond_load_ratio = v;
     else if (k == "sigc") s.micro.crushing_strength_pa = v * 1e6;
     else if (k == "wm") s.micro.crushing_weibull_modulus = v;
     else if (k == "ch") s.micro.crushing_hardening_ratio = v;
-    else if (k == "cfl") s.micro.crushing_friction_loss = v;
     else if (k == "cbb") s.micro.crushing_breaks_bond = v != 0;
-    else if (k == "cres") s.micro.crushing_residual_ratio = v;
     else if (k == "bss") s.micro.bond_shear_strength_pa = v * 1e3;
     else if (k == "bns") s.micro.bond_normal_strength_pa = v * 1e3;
     else if (k == "relax") s.creep.max_relaxation_per_increment = v;
-    else if (k == "t0") s.creep.grain_fatigue_time_s = v;
-    else if (k == "nf") s.creep.grain_fatigue_exponent = v;
-    else if (k == "rcap") s.creep.grain_fatigue_ratio_cap = v;
-    else if (k == "drive") {
-        if (v != 0 && v != 1 && v != 2) {
-            std::fprintf(stderr, "drive=%s: 0 (capped peak force), 1 (peak force) or 2 (grain stress)\n", arg.substr(eq + 1).c_str());
-            return false;
-        }
-        s.creep.grain_fatigue_drive = static_cast<protocol::GrainFatigueDrive>(static_cast<int>(v));
-    }
-    else if (k == "inst") s.creep.grain_fatigue_instant_life_s = v;
-    else if (k == "spread") s.creep.grain_fatigue_strength_spread = v != 0;
     else if (k == "crush") { if (v != 0) s.micro = protocol::paper_group("C").micro; }
     else if (k == "hours") a.hours = v;
     else if (k == "h4") a.last_hours = v;
@@ -122,21 +96,6 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "threads") s.threads = static_cast<int>(v);
     else if (k == "s3") a.sigma3_kpa = v;
     else if (k == "verbose") { a.verbose = v != 0; a.verbose_level = static_cast<int>(v); }
-    else if (k == "gain") a.hold.adaptive_gain = v != 0;
-    else if (k == "drift") a.hold.drift_criterion = v != 0;
-    else if (k == "qs") a.hold.quasi_static_speed = v != 0;
-    else if (k == "noov") a.hold.no_overshoot = v != 0;
-    else if (k == "adload") a.hold.adaptive_loading = v != 0;
-    else if (k == "ramp") a.hold.loading_ramp = v != 0;
-    else if (k == "rest") {
-        const auto r = v != 0 ? protocol::HoldOptions::at_rest(false) : protocol::HoldOptions{};
-        a.hold.adaptive_loading = r.adaptive_loading;
-        a.hold.loading_ramp = r.loading_ramp;
-        a.hold.rest_criterion = r.rest_criterion;
-        a.hold.drift_criterion = r.drift_criterion;
-    }
-    else if (k == "restb") a.hold.rest_strain_per_kcycle = v;
-    else if (k == "restk") a.hold.rest_window_chunks = static_cast<int>(v);
     else {
         std::fprintf(stderr, "unknown key %s\n", k.c_str());
         return false;

@@ -1,5 +1,6 @@
 // triaxd: the REST service. Flags override environment (TRIAX_HOST, TRIAX_PORT,
-// TRIAX_DATA_DIR), which override the defaults (127.0.0.1:8080, ./data). Prints the
+// TRIAX_DATA_DIR, TRIAX_MPI_HOSTFILE, TRIAX_MPI_RANKS), which override the defaults
+// (127.0.0.1:8080, ./data, diagnoses in this process). Prints the
 // listening URL on stdout once the socket is bound (the browser test waits for it).
 #include "server/runs/engine_executor.hpp"
 #include "server/service.hpp"
@@ -8,6 +9,7 @@
 #include <pthread.h>
 #include <thread>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -16,7 +18,11 @@ namespace {
 void usage() {
     std::cout << "usage: triaxd [--host H] [--port P] [--data-dir DIR] [--web-dir DIR] [--schema-dir DIR]\n"
                  "              [--workers N] [--threads-per-run N] [--queue-limit N] [--max-particles N]\n"
-                 "env: TRIAX_HOST, TRIAX_PORT, TRIAX_DATA_DIR\n";
+                 "              [--token T] [--allow-host NAME]... [--http-threads N] [--max-streams N] [--backlog N]\n"
+                 "              [--mpi-hostfile FILE] [--mpi-ranks N] [--mpi-triax PATH]\n"
+                 "env: TRIAX_HOST, TRIAX_PORT, TRIAX_DATA_DIR, TRIAX_TOKEN, TRIAX_MPI_HOSTFILE, TRIAX_MPI_RANKS\n"
+                 "--mpi-ranks N > 0: each diagnosis runs as `mpirun [--hostfile FILE] -np N triax diagnose ...`\n"
+                 "(--mpi-triax: the triax CLI, the same path on every host; default: next to triaxd)\n";
 }
 
 int to_int(const std::string& flag, const std::string& v) {
@@ -38,6 +44,11 @@ int main(int argc, char** argv) {
         if (const char* e = std::getenv("TRIAX_HOST")) cfg.host = e;
         if (const char* e = std::getenv("TRIAX_PORT")) cfg.port = to_int("TRIAX_PORT", e);
         if (const char* e = std::getenv("TRIAX_DATA_DIR")) cfg.data_dir = e;
+        if (const char* e = std::getenv("TRIAX_TOKEN")) cfg.token = e;
+        if (const char* e = std::getenv("TRIAX_MPI_HOSTFILE")) cfg.mpi.hostfile = e;
+        if (const char* e = std::getenv("TRIAX_MPI_RANKS")) cfg.mpi.ranks = to_int("TRIAX_MPI_RANKS", e);
+        std::error_code ec;
+        cfg.mpi.triax = std::filesystem::read_symlink("/proc/self/exe", ec).parent_path() / "triax";
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
             if (a == "-h" || a == "--help") {
@@ -55,8 +66,21 @@ int main(int argc, char** argv) {
             else if (a == "--threads-per-run") cfg.threads_per_run = to_int(a, v);
             else if (a == "--queue-limit") cfg.queue_limit = to_int(a, v);
             else if (a == "--max-particles") cfg.max_particles = to_int(a, v);
+            else if (a == "--token") cfg.token = v;
+            else if (a == "--allow-host") cfg.allowed_hosts.push_back(v);
+            else if (a == "--http-threads") cfg.http_threads = to_int(a, v);
+            else if (a == "--max-streams") cfg.max_event_streams = to_int(a, v);
+            else if (a == "--backlog") cfg.listen_backlog = to_int(a, v);
+            else if (a == "--mpi-hostfile") cfg.mpi.hostfile = v;
+            else if (a == "--mpi-ranks") cfg.mpi.ranks = to_int(a, v);
+            else if (a == "--mpi-triax") cfg.mpi.triax = v;
             else throw std::invalid_argument("unknown flag " + a);
         }
+        if (cfg.mpi.ranks < 0) throw std::invalid_argument("--mpi-ranks must be >= 0");
+        if (cfg.mpi.enabled() && !cfg.mpi.hostfile.empty() && !std::filesystem::is_regular_file(cfg.mpi.hostfile))
+            throw std::invalid_argument("--mpi-hostfile: no file " + cfg.mpi.hostfile.string());
+        if (cfg.mpi.enabled() && !std::filesystem::is_regular_file(cfg.mpi.triax))
+            throw std::invalid_argument("--mpi-triax: no triax CLI at " + cfg.mpi.triax.string());
     } catch (const std::exception& e) {
         std::cerr << "triaxd: " << e.what() << "\n";
         usage();
@@ -74,7 +98,9 @@ int main(int argc, char** argv) {
         std::thread waiter([&] {
             int sig = 0;
             sigwait(&stop_signals, &sig);
-            if (sig != 0) service.http.stop();
+            // Jobs are interrupted and their streams get the terminal event before the
+            // server stops; listen() below then returns.
+            if (sig != 0) service.stop();
         });
         waiter.detach();
         service.bind();

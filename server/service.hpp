@@ -3,11 +3,16 @@
 // service and the HTTP server with every route. main.cpp only parses flags and calls
 // start(); the end-to-end tests start it in-process on an ephemeral port.
 #include "engine/diagnose/lab_data.hpp"
+#include "server/diagnoses/diagnosis_service.hpp"
+#include "engine/protocol/test_scheme.hpp"
 #include "server/events/event_log.hpp"
+#include "server/http/request_guard.hpp"
+#include "server/http/sse.hpp"
 #include "server/io/json_schema_validator.hpp"
 #include "server/jobs/job_queue.hpp"
 #include "server/runs/run_executor.hpp"
 #include "server/runs/run_service.hpp"
+#include "server/scaleout/mpi_job_launcher.hpp"
 #include "server/store/database.hpp"
 
 #include <httplib.h>
@@ -20,6 +25,12 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <regex>
+#include <vector>
+
+namespace triax::protocol {
+struct ImportedPacking;
+}
 
 namespace triax::service {
 
@@ -33,9 +44,19 @@ struct ServiceConfig {
     int threads_per_run = 1;               // default OpenMP threads of a run
     int max_threads_per_run = 0;           // 0 = the machine's hardware threads
     int queue_limit = 16;                  // waiting runs (plus diagnoses) before 429
-    std::size_t max_body_bytes = 16u << 20;  // uploads and schemes
+    std::size_t max_body_bytes = 16u << 20;  // uploads and schemes, chunked or not (413 beyond)
     int max_particles = 200000;            // estimated soil particles of a scheme
-    int http_threads = 32;                 // SSE clients each hold one
+    // Every open connection holds one HTTP thread (cpp-httplib's model), an SSE stream for
+    // its whole life. Streams are capped below the pool so that requests (and /health)
+    // always find a thread: at most max_event_streams streams (503 beyond), and the pool
+    // has http_threads >= max_event_streams + 32.
+    int http_threads = 320;
+    int max_event_streams = 256;
+    int listen_backlog = 512;              // pending connections the kernel queues (>= 128)
+    std::string token;                     // --token / TRIAX_TOKEN: required on every route but /health
+    std::vector<std::string> allowed_hosts;  // extra Host names accepted (--allow-host)
+    // Diagnoses as MPI jobs (mpirun --hostfile H -np N triax diagnose ...) when ranks > 0.
+    scaleout::MpiLaunchSettings mpi;
 };
 
 class Service {
@@ -53,7 +74,9 @@ public:
     bool listen();
     // bind() + listen() on a background thread; returns the port.
     int start_background();
-    // Stops accepting, ends streams, interrupts running jobs, joins everything.
+    // Interrupts running jobs (recorded "interrupted", re-runnable), lets open streams
+    // deliver their terminal event, then stops accepting and joins everything. Safe to
+    // call from a signal-waiting thread while another thread is in listen().
     void stop();
 
     std::string url() const;
@@ -65,6 +88,7 @@ public:
     EventLog diagnosis_events;
     JobQueue queue;
     RunService runs;
+    DiagnosisService diagnoses;
     std::optional<io::JsonSchemaValidator> scheme_schema;  // absent if schema/scheme.schema.json is missing
     nlohmann::json openapi;
     httplib::Server http;
@@ -72,35 +96,53 @@ public:
 
     // Registers a handler and records (method, OpenAPI path) so a test can check the
     // routes against schema/openapi.json; "([^/]+)" in the pattern is "{id}" there.
-    void route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler);
+    // `described`: the OpenAPI path when a capture is not an {id} (e.g. "/runs/{id}/snapshots/{stage}").
+    void route(const std::string& method, const std::string& pattern, httplib::Server::Handler handler,
+               const std::string& described = "");
     std::vector<std::pair<std::string, std::string>> routes;
+    // Open SSE streams, capped at config.max_event_streams (503 beyond).
+    StreamLimiter event_streams;
 
-    // Diagnosis jobs (diagnosis_routes.cpp): cancel flags shared with the workers.
-    std::atomic<bool> shutting_down{false};  // set by stop(): cancelled jobs become "interrupted"
-    std::mutex diagnosis_mutex;
-    std::map<std::int64_t, std::shared_ptr<std::atomic<bool>>> diagnosis_cancel;
+    std::atomic<bool> shutting_down{false};  // set by stop()
 
 private:
     void register_routes();
+    // Methods registered for a path ("GET, POST"), empty if no route matches it.
+    std::string allowed_methods(const std::string& path) const;
+    std::vector<std::pair<std::string, std::regex>> route_patterns_;
+    RequestGuard guard_;
+    int listen_socket_ = -1;
     int bound_port_ = 0;
     std::thread listener_;
+    std::mutex stop_mutex_;
     bool stopped_ = false;
 };
 
 // Route groups, one file each.
 void register_service_routes(Service& s);
+// Paths under the web directory that are not served (its npm tree; the page's packages are
+// served through the /vendor/ whitelist).
+bool is_private_web_path(const std::string& path);
 void register_scheme_routes(Service& s);
 void register_run_routes(Service& s);
 void register_result_routes(Service& s);
 void register_dataset_routes(Service& s);
 void register_comparison_routes(Service& s);
 void register_diagnosis_routes(Service& s);
-int recover_interrupted_diagnoses(Service& s);
+// Start-up: fills datasets.header_json for rows stored without it; returns how many.
+int backfill_dataset_headers(Service& s);
+void register_estimate_routes(Service& s);
+void register_snapshot_routes(Service& s);
+void register_packing_routes(Service& s);
 
 // Shared helper of scheme and run routes: validates a scheme document (JSON Schema, then
 // the engine's own checks and the service limits) and stores it; returns {"id","scheme"}.
 nlohmann::json store_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
+// The same checks without storing: the parsed scheme (POST /estimate).
+protocol::TestScheme validated_scheme(Service& s, const nlohmann::json& scheme, const std::string& pointer_prefix);
 // A stored dataset (404 if unknown); `name` receives its name when not null.
 diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name);
+// A stored packing (404 naming /packing_id if unknown).
+protocol::ImportedPacking load_packing(Service& s, std::int64_t id);
 
 }  // namespace triax::service

@@ -40,7 +40,7 @@ export async function del(url) { return parse(await fetch(url, { method: 'DELETE
 const UNITS = [
   ['_pct_per_min', '%/min'], ['_per_s', '1/s'], ['_per_min', '1/min'], ['_g_cm3', 'g/cm³'], ['_pct_min', '%/min'], ['_mm_min', 'mm/min'], ['_kPa_min', 'kPa/min'], ['_kPa_s', 'kPa/s'], ['_mm_s', 'mm/s'], ['_m_s', 'm/s'],
   ['_kPa', 'kPa'], ['_MPa', 'MPa'], ['_GPa', 'GPa'], ['_Pa', 'Pa'], ['_mm3', 'mm³'], ['_mm', 'mm'],
-  ['_pct', '%'], ['_min', 'min'], ['_s', 's'], ['_J', 'J'], ['_kg_m3', 'kg/m³'], ['_N_m', 'N/m'], ['_m', 'm'],
+  ['_pct', '%'], ['_um', 'µm'], ['_min', 'min'], ['_s', 's'], ['_J', 'J'], ['_kg_m3', 'kg/m³'], ['_N_m', 'N/m'], ['_m', 'm'],
   ['_N', 'N'], ['_deg', '°'], ['_rad_s', 'rad/s'], ['_1_s', '1/s'],
 ];
 

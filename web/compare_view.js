@@ -1,10 +1,12 @@
-// Lab readings against a run: upload a dataset (POST /datasets), pick a run and a
-// dataset, and show what POST /comparisons returns: the metrics table, the overlay of
-// model and lab for one curve, and its residual. Downloads: the residual table as CSV,
-// each plot as PNG/CSV.
+// Lab readings against a run: upload a dataset (POST /datasets), pick a finished run and
+// a dataset, and show what POST /comparisons returns: the metrics table, the overlay of
+// model and lab for one curve, and its residual. The overlay draws the whole lab curve
+// (GET /datasets/{id}) and the whole model curve (GET /runs/{id}/results/...), not only
+// the compared points: readings outside the model's range are drawn apart and counted.
+// Downloads: the residual table as CSV, each plot as PNG/CSV.
 
-import { el, getAll, moreButton, PAGE, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
-import { Plot, downloadBlob } from './plot.js';
+import { el, getAll, getJSON, moreButton, PAGE, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
+import { Chart, downloadBlob } from './chart.js';
 
 const CONTENT_TYPES = { json: 'application/json', csv: 'text/csv', gds: 'text/csv', ags: 'text/plain' };
 
@@ -29,9 +31,9 @@ export class CompareView {
   }
 
   build() {
-    this.fileInput = el('input', { type: 'file', id: 'dataset-file', accept: '.csv,.txt,.json,.ags,.gds' });
-    this.nameInput = el('input', { type: 'text', id: 'dataset-name', placeholder: 'name (default: file name)' });
-    this.formatSelect = el('select', { id: 'dataset-format' },
+    this.fileInput = el('input', { type: 'file', id: 'dataset-file', accept: '.csv,.txt,.json,.ags,.gds', 'aria-label': 'lab readings file' });
+    this.nameInput = el('input', { type: 'text', id: 'dataset-name', placeholder: 'name (default: file name)', 'aria-label': 'dataset name' });
+    this.formatSelect = el('select', { id: 'dataset-format', 'aria-label': 'file format' },
       ['', 'csv', 'gds', 'ags', 'json'].map(f => el('option', { value: f }, f || 'sniff')));
     this.uploadError = el('div', { class: 'field-error', id: 'upload-error', role: 'alert' });
     this.uploadInfo = el('div', { class: 'hint', id: 'upload-info' });
@@ -43,13 +45,14 @@ export class CompareView {
       this.uploadError, this.uploadInfo);
 
     this.datasetTable = el('table', { class: 'grid', id: 'dataset-table' });
+    this.datasetScroll = el('div', { class: 'table-scroll' }, this.datasetTable);
     this.datasetMore = el('div', { class: 'row' });
     this.datasetCount = PAGE;
     this.runSelect = el('select', { id: 'compare-run' });
     this.datasetSelect = el('select', { id: 'compare-dataset' });
     this.compareError = el('div', { class: 'field-error', id: 'comparison-error', role: 'alert' });
     const pick = el('section', { class: 'card' },
-      el('h3', {}, 'Compare a run with a dataset'),
+      el('h3', {}, 'Compare a finished run with a dataset'),
       el('div', { class: 'row' }, el('label', {}, 'run ', this.runSelect), el('label', {}, 'dataset ', this.datasetSelect),
         el('button', { type: 'button', id: 'compare-button', onclick: () => this.compare() }, 'Compare'),
         el('button', { type: 'button', onclick: () => this.refreshLists() }, 'Refresh lists')),
@@ -64,11 +67,12 @@ export class CompareView {
       el('div', { class: 'row' }, el('label', {}, 'curve ', this.curveSelect),
         el('button', { type: 'button', id: 'residual-csv', onclick: () => this.downloadResiduals() }, 'Download residuals CSV')),
       grid);
-    this.overlay = new Plot(grid, { id: 'plot-overlay', title: 'Model vs lab', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'overlay' });
-    this.residual = new Plot(grid, { id: 'plot-residual', title: 'Residual (model − lab)', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'residual' });
+    const conditions = () => (this.comparison ? `run #${this.comparison.run_id} vs dataset #${this.comparison.dataset_id}` : '');
+    this.overlay = new Chart(grid, { id: 'plot-overlay', title: 'Model vs lab', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'overlay', conditions });
+    this.residual = new Chart(grid, { id: 'plot-residual', title: 'Residual (model − lab)', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'residual', conditions });
 
     this.container.replaceChildren(el('h2', {}, 'Lab readings'), upload,
-      el('section', { class: 'card' }, el('h3', {}, 'Datasets'), this.datasetTable, this.datasetMore), pick, result);
+      el('section', { class: 'card' }, el('h3', {}, 'Datasets'), this.datasetScroll, this.datasetMore), pick, result);
   }
 
   // Overlapping refreshes (page load, then an upload) must not let the older answer
@@ -81,9 +85,11 @@ export class CompareView {
       if (seq !== this.listSeq) return;
       const total = datasets.length, shown = datasets.slice(0, this.datasetCount);
       const keepRun = this.runSelect.value, keepSet = this.datasetSelect.value;
-      this.runSelect.replaceChildren(...runs.map(r => el('option', { value: r.id }, `#${r.id} ${r.name || ''} (${r.status})`)));
-      const firstDone = runs.find(r => r.status === 'done');
-      this.runSelect.value = keepRun && runs.some(r => String(r.id) === keepRun) ? keepRun : firstDone ? String(firstDone.id) : '';
+      // Only finished runs can be compared (the server answers 409 for the others).
+      const done = runs.filter(r => r.status === 'done');
+      this.runSelect.replaceChildren(...(done.length ? done.map(r => el('option', { value: r.id }, `#${r.id} ${r.name || ''}`))
+        : [el('option', { value: '' }, 'no finished run yet')]));
+      this.runSelect.value = keepRun && done.some(r => String(r.id) === keepRun) ? keepRun : done.length ? String(done[0].id) : '';
       this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
       if (keepSet && datasets.some(d => String(d.id) === keepSet)) this.datasetSelect.value = keepSet;
       this.renderDatasets(shown);
@@ -96,7 +102,7 @@ export class CompareView {
     this.datasetTable.replaceChildren(
       el('tr', {}, ['id', 'name', 'curves', ''].map(h => el('th', {}, h))),
       ...datasets.map(d => el('tr', {}, el('td', {}, d.id), el('td', {}, d.name || ''), el('td', {}, curveText(d)),
-        el('td', {}, el('button', { type: 'button', onclick: async () => { await del(`/datasets/${d.id}`); this.refreshLists(); } }, 'delete')))));
+        el('td', {}, el('button', { type: 'button', 'aria-label': `delete dataset #${d.id} ${d.name || ''}`.trim(), onclick: async () => { await del(`/datasets/${d.id}`); this.refreshLists(); } }, 'delete')))));
   }
 
   async upload() {
@@ -130,7 +136,14 @@ export class CompareView {
     const run_id = Number(this.runSelect.value), dataset_id = Number(this.datasetSelect.value);
     if (!run_id || !dataset_id) { this.compareError.textContent = 'pick a run and a dataset'; return; }
     try {
-      this.show(await postJSON('/comparisons', { run_id, dataset_id }));
+      const comparison = await postJSON('/comparisons', { run_id, dataset_id });
+      // The whole curves behind the metrics: the run's series and the dataset's readings.
+      const [ss, vol, creep, dataset] = await Promise.all([
+        getJSON(`/runs/${run_id}/results/stress-strain`), getJSON(`/runs/${run_id}/results/volumetric`),
+        getJSON(`/runs/${run_id}/results/creep`), getJSON(`/datasets/${dataset_id}`)]);
+      this.model = { ss, vol, creep };
+      this.dataset = dataset;
+      this.show(comparison);
     } catch (e) { this.compareError.textContent = e.message; }
   }
 
@@ -141,18 +154,43 @@ export class CompareView {
     // range. Lab readings outside the model's range are not compared: `dropped` says how many.
     const withUnit = (c, k) => (typeof c[k] === 'number' ? `${num(c[k])}${c.unit ? ' ' + c.unit : ''}` : num(c[k]));
     const cols = [['curve', c => c.curve], ['stage', c => num(c.stage)], ['readings compared', c => num(c.n)],
-      ['dropped (outside the model range)', c => num(c.dropped)], ['RMSE', c => withUnit(c, 'rmse')],
+      ['outside the model range (drawn, not compared)', c => num(c.dropped)], ['RMSE', c => withUnit(c, 'rmse')],
       ['NRMSE (of the lab range)', c => num(c.nrmse)], ['R²', c => num(c.r2)], ['max |error|', c => withUnit(c, 'max_error')]];
     const notes = [...(comparison.warnings || []).map(w => `warning: ${w}`),
       ...(comparison.skipped || []).map(k => `not compared: ${k.curve}${k.stage != null ? ' stage ' + k.stage : ''}: ${k.reason}`)];
-    this.metrics.replaceChildren(
+    // replaceChildren would print a null child as the text "null": only nodes go in.
+    this.metrics.replaceChildren(...[
       el('p', { class: 'hint' }, `comparison #${comparison.id}: run #${comparison.run_id} vs dataset #${comparison.dataset_id}`),
-      el('table', { class: 'grid', id: 'metrics-table' },
+      el('div', { class: 'table-scroll' }, el('table', { class: 'grid', id: 'metrics-table' },
         el('tr', {}, cols.map(([h]) => el('th', {}, h))),
-        curves.map(c => el('tr', {}, cols.map(([, f]) => el('td', {}, f(c)))))),
-      notes.length ? el('ul', { class: 'error', id: 'comparison-warnings' }, notes.map(n => el('li', {}, n))) : null);
+        curves.map(c => el('tr', {}, cols.map(([, f]) => el('td', {}, f(c))))))),
+      notes.length ? el('ul', { class: 'error', id: 'comparison-warnings' }, notes.map(n => el('li', {}, n))) : null].filter(Boolean));
     this.curveSelect.replaceChildren(...curves.map((c, i) => el('option', { value: i }, `${c.curve}${c.stage != null ? ' stage ' + c.stage : ''}`)));
     this.showCurve();
+  }
+
+  // The model's whole curve for a compared curve, and the dataset's whole lab curve.
+  modelCurve(c) {
+    const m = this.model || {};
+    if (c.curve === 'stress_strain' && m.ss) return m.ss.rows.map(r => [r[0], r[1]]);
+    if (c.curve === 'volumetric' && m.vol) return m.vol.rows.map(r => [r[0], r[1]]);
+    if (c.curve === 'creep' && m.creep) {
+      const yi = m.creep.columns.indexOf(c.y);
+      return m.creep.rows.filter(r => r[0] === c.stage).map(r => [r[1], r[yi]]);
+    }
+    return [];
+  }
+
+  labCurve(c) {
+    const want = c.curve === 'creep' ? 'creep' : 'shear';
+    const out = [];
+    for (const lc of this.dataset?.data?.curves || []) {
+      if (lc.kind !== want || (want === 'creep' && lc.stage !== c.stage)) continue;
+      const xi = lc.columns.indexOf(c.x), yi = lc.columns.indexOf(c.y);
+      if (xi < 0 || yi < 0) continue;
+      for (const r of lc.rows) if (r[xi] != null && r[yi] != null) out.push([Number(r[xi]), Number(r[yi])]);
+    }
+    return out;
   }
 
   showCurve() {
@@ -170,9 +208,21 @@ export class CompareView {
       p.logBox.parentElement.hidden = !isTime;
     }
     this.overlay.options.yLabel = yl;
+    this.overlay.options.yFromZero = c.curve === 'stress_strain';
     this.residual.options.yLabel = `residual ${c.unit ? '(' + c.unit + ')' : ''}`;
-    this.overlay.setSeries('model', rows.map(r => [r[0], r[1]]));
-    this.overlay.setSeries('lab', rows.map(r => [r[0], r[2]]), { style: 'points' });
+    const model = this.modelCurve(c);
+    const lab = this.labCurve(c);
+    // Inside the model's x range the reading was compared; outside it is drawn apart.
+    const xs = model.map(p => p[0]);
+    const lo = Math.min(...xs), hi = Math.max(...xs);
+    const inside = lab.filter(([x]) => x >= lo && x <= hi), outside = lab.filter(([x]) => x < lo || x > hi);
+    this.overlay.setSeries('model', model.length ? model : rows.map(r => [r[0], r[1]]));
+    this.overlay.setSeries('lab', inside.length || !rows.length ? inside : rows.map(r => [r[0], r[2]]), { style: 'points', color: '#c0392b' });
+    if (outside.length) this.overlay.setSeries(`lab outside the model range (${outside.length})`, outside, { style: 'points', color: '#d68910' });
+    this.outsideCount = outside.length;
+    this.overlay.root.dataset.outside = String(outside.length);
+    this.overlay.root.dataset.lab = String(lab.length);
+    this.overlay.root.dataset.model = String(model.length);
     this.residual.setSeries('model − lab', rows.map(r => [r[0], r[3]]), { style: 'points' });
     this.residual.setSeries('zero', rows.length ? [[rows[0][0], 0], [rows[rows.length - 1][0], 0]] : [], { color: '#999', dash: [4, 4] });
   }

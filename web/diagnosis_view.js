@@ -1,29 +1,74 @@
 // Closing the loop: ask the service which test effect (seating error, membrane
 // compliance, ...) best explains the misfit between a scheme and a dataset, and show the
-// report: chosen effect, fitted parameters, error before/after, delta-BIC, verdict.
-// Progress comes from the SSE stream /diagnoses/{id}/events (progress, candidate, done,
-// error), with polling of GET /diagnoses/{id} as the fallback that also fetches the
-// final report.
+// report: chosen effect, fitted parameters in the form's words and lab units, error before
+// and after as a chart by curve and phase, delta-BIC, verdict; "run with these parameters"
+// and "re-run". Before start: the cost (DEM runs and minutes, from POST /estimate). While
+// it runs: the stream /diagnoses/{id}/events (progress, candidate, done, error) with an ETA
+// from the progress rate, and polling of GET /diagnoses/{id} for the final report.
 
 import { el, getAll, getJSON, postJSON, progressElement } from './api.js';
 
-// Five significant digits; very large or small magnitudes (e.g. moduli in Pa) as 1.2e+8.
+// Five significant digits; very large or small magnitudes as 1.2e+8.
 const sig = v => (v !== 0 && (Math.abs(v) >= 1e6 || Math.abs(v) < 1e-4) ? v.toExponential(4).replace(/\.?0+e/, 'e') : Number(v.toPrecision(5)));
 const num = v => (typeof v === 'number' ? sig(v) : v == null ? '—' : typeof v === 'boolean' ? (v ? 'yes' : 'no') : String(v));
 
 function table(id, cols, rows, headers = cols) {
-  return el('table', { class: 'grid', id },
+  return el('div', { class: 'table-scroll' }, el('table', { class: 'grid', id },
     el('tr', {}, headers.map(h => el('th', {}, h))),
-    rows.map(r => el('tr', {}, cols.map(c => el('td', {}, typeof c === 'function' ? c(r) : num(r[c]))))));
+    rows.map(r => el('tr', {}, cols.map(c => el('td', {}, typeof c === 'function' ? c(r) : num(r[c])))))));
 }
 
-const paramText = ps => (ps || []).map(p => `${p.name} = ${num(p.value)}${p.unit ? ' ' + p.unit : ''}${p.std != null ? ' ± ' + num(p.std) : ''}`).join('; ');
 const ACTIVE = new Set(['queued', 'running']);
+
+// The diagnosis's parameters (engine/diagnose: base_parameters, effect_parameters) in the
+// form's words and lab units, and how each one changes the scheme for "run with these
+// parameters" (as DemForwardModel::scheme_for and the artefacts apply them).
+const scaleBonds = (s, k) => { s.micro.bond_normal_strength_kPa *= k; s.micro.bond_shear_strength_kPa *= k; };
+export const PARAMETERS = {
+  contact_normal_modulus: { label: 'normal modulus', unit: 'MPa', factor: 1e-6, field: '/micro/normal_modulus_MPa',
+    apply: (s, v) => { const r = s.micro.shear_modulus_MPa / s.micro.normal_modulus_MPa; s.micro.normal_modulus_MPa = v / 1e6; s.micro.shear_modulus_MPa = r * v / 1e6; } },
+  friction: { label: 'friction', unit: '–', factor: 1, field: '/micro/friction', apply: (s, v) => { s.micro.friction = v; } },
+  bond_strength_scale: { label: 'bond normal and shear strength × ', unit: '×', factor: 1, field: '/micro/bond_normal_strength_kPa', apply: scaleBonds },
+  creep_slip_rate_scale: { label: 'slip rate a × ', unit: '×', factor: 1, field: '/creep/slip_rate_a_m_s', apply: (s, v) => { s.creep.slip_rate_a_m_s *= v; } },
+  rolling_friction: { label: 'rolling friction', unit: '–', factor: 1, field: '/micro/rolling_friction',
+    apply: (s, v) => { s.micro.rolling_friction = v; s.effects.rolling_resistance = true; s.effects.rolling_friction = v; } },
+  grain_crushability: { label: 'crushing strength (from crushability 0.6 MPa / x)', unit: 'MPa', value: v => (v > 0 ? 0.6 / v : 0), field: '/micro/crushing_strength_MPa',
+    apply: (s, v) => { s.micro.crushing_strength_MPa = v > 0 ? 0.6 / v : 0; } },
+  extra_bond_damage_rate: { label: 'breakage damage scale (1 + x)', unit: '–', value: v => 1 + v, field: '/effects/breakage_damage_scale',
+    apply: (s, v) => { if (v > 0) { s.effects.grain_breakage = true; s.effects.breakage_damage_scale = 1 + v; } } },
+  viscosity_scale: { label: 'viscosity scale', unit: '–', factor: 1, field: '/effects/viscosity_scale',
+    apply: (s, v) => { s.effects.contact_creep_viscosity = true; s.effects.viscosity_scale = v; } },
+  moisture_bond_strength_scale: { label: 'bond strength from moisture × ', unit: '×', factor: 1, field: '/micro/bond_shear_strength_kPa', apply: scaleBonds },
+  seating_strain: { label: 'seating displacement (strain × height)', unit: 'mm', scheme: (s, v) => v * s.specimen.height_mm, field: '/effects/seating_displacement_mm',
+    apply: (s, v) => { s.effects.seating_error = true; s.effects.seating_displacement_mm = v * s.specimen.height_mm; } },
+  membrane_stiffness: { label: 'membrane stiffness', unit: 'kPa', factor: 1e-3, field: '/effects/membrane_modulus_kPa',
+    apply: (s, v) => { s.effects.membrane_compliance = true; s.effects.membrane_modulus_kPa = v / 1e3; } },
+};
+
+function labValue(p, scheme) {
+  const d = PARAMETERS[p.name];
+  if (!d) return { label: p.name.replace(/_/g, ' '), unit: p.unit || '', value: p.value, std: p.std, field: '' };
+  if (d.value) return { label: d.label, unit: d.unit, value: d.value(p.value), std: null, field: d.field };
+  if (d.scheme) return { label: d.label, unit: d.unit, value: scheme ? d.scheme(scheme, p.value) : p.value, std: scheme && p.std != null ? d.scheme(scheme, p.std) : null, field: d.field };
+  return { label: d.label, unit: d.unit, value: p.value * d.factor, std: p.std != null ? p.std * d.factor : null, field: d.field };
+}
+
+export function applyParameters(scheme, parameters) {
+  const s = structuredClone(scheme);
+  s.micro ||= {}; s.creep ||= {}; s.effects ||= {};
+  for (const p of parameters || []) PARAMETERS[p.name]?.apply(s, p.value);
+  return s;
+}
 
 // The request limits of POST /datasets/{id}/diagnose, as the server validates them
 // (diagnose_options_from_json in server/io/diagnosis_json.cpp; GET /openapi.json does not
 // carry them). The browser test sends values just outside them and expects the 422.
 export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53] };
+// The diagnosis's own defaults (engine/diagnose/diagnosis.hpp DiagnoseOptions).
+const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1 };
+
+const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
+const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);
 
 export class DiagnosisView {
   constructor(container) {
@@ -31,6 +76,7 @@ export class DiagnosisView {
     this.timer = null;
     this.source = null;
     this.diagnosisId = null;
+    this.runs = [];
     this.build();
     this.refreshLists();
   }
@@ -41,13 +87,16 @@ export class DiagnosisView {
     this.fields = {};
     const field = (key, label, unit, value, title) => {
       const [min, max] = LIMITS[key];
-      const input = el('input', { type: 'number', id: `diagnose-${key.replace(/_/g, '-')}`, value, min, max, step: 1, title });
-      const error = el('span', { class: 'field-error', id: `diagnose-${key.replace(/_/g, '-')}-error`, role: 'alert' });
+      const id = `diagnose-${key.replace(/_/g, '-')}`;
+      const input = el('input', { type: 'number', id, value, min, max, step: 1, title });
+      const error = el('span', { class: 'field-error', id: `${id}-error`, role: 'alert' });
       this.fields[key] = { input, error };
-      return el('label', { class: 'diagnose-option' }, `${label}${unit ? ' (' + unit + ')' : ''} `, input,
-        el('span', { class: 'limits' }, ` ${min}…${max === 2 ** 53 ? '2⁵³' : max}`), error);
+      return el('div', { class: 'diagnose-option field' },
+        el('label', { for: id }, `${label}${unit ? ' (' + unit + ')' : ''}`), input,
+        el('span', { class: 'limits' }, `${min}…${max === 2 ** 53 ? '2⁵³' : max}`), error);
     };
     this.error = el('div', { class: 'field-error', id: 'diagnose-error', role: 'alert' });
+    this.cost = el('div', { class: 'estimate', id: 'diagnose-cost', 'aria-live': 'polite' });
     this.progress = el('div', { id: 'diagnosis-progress' }, el('span', { class: 'hint' }, 'no diagnosis selected'));
     this.candidates = el('div', { id: 'diagnosis-candidates' });
     this.report = el('div', { id: 'diagnosis-report' });
@@ -57,15 +106,49 @@ export class DiagnosisView {
       el('section', { class: 'card' },
         el('p', { class: 'hint' }, 'Calibrates the base model to the dataset, then ranks the candidate effects (rolling resistance, grain breakage, seating error, membrane compliance, ...) by their residual signature, fits the best ones as augmented models and keeps one only if it lowers BIC (with an effective number of readings). The scheme is taken from the chosen run. The budget bounds the calibration runs; each candidate costs further DEM runs.'),
         el('div', { class: 'row' },
-          el('label', {}, 'dataset ', this.datasetSelect), el('label', {}, 'scheme of run ', this.runSelect),
+          el('label', {}, 'dataset ', this.datasetSelect), el('label', {}, 'scheme of run ', this.runSelect)),
+        el('div', { class: 'row' },
           field('budget_runs', 'calibration budget', 'DEM runs', 24),
           field('max_particles', 'max particles per run', '', 0, '0 = as in the scheme'),
-          field('seed', 'seed', '', 1),
-          el('button', { type: 'button', id: 'diagnose-button', onclick: () => this.start() }, 'Diagnose')),
+          field('seed', 'seed', '', 1)),
+        this.cost,
+        el('div', { class: 'row' }, el('button', { type: 'button', id: 'diagnose-button', onclick: () => this.start() }, 'Diagnose')),
         this.error),
       el('section', { class: 'card' }, el('h3', {}, 'Progress'), this.progress, this.candidates),
       el('section', { class: 'card' }, el('h3', {}, 'Report'), this.report),
       el('section', { class: 'card' }, el('h3', {}, 'Earlier diagnoses'), this.list));
+    const recost = () => { clearTimeout(this.costTimer); this.costTimer = setTimeout(() => this.estimateCost(), 300); };
+    for (const f of Object.values(this.fields)) f.input.addEventListener('input', recost);
+    this.runSelect.addEventListener('change', recost);
+  }
+
+  // Runs as the diagnosis plans them (engine/diagnose/diagnosis.cpp, planned_runs_):
+  // budget + 2 (base + 2) + max_effects (effects + (max_candidates + 1) refine_runs), with
+  // the DEM model's 4 base parameters and 4 physical effects: the most it can use. The
+  // least: the calibration alone (budget + 2 (base + 2)). Minutes from POST /estimate of
+  // the run's scheme, per DEM run and lab condition.
+  async estimateCost() {
+    const run = this.runs.find(r => String(r.scheme_id) === this.runSelect.value);
+    const budget = Number(this.fields.budget_runs.input.value);
+    const base = 4, physical = 4;
+    const runsAtLeast = budget + 2 * (base + 2);
+    const runsUpTo = runsAtLeast + DEFAULTS.max_effects * (physical + (DEFAULTS.max_candidates + 1) * DEFAULTS.refine_runs);
+    this.cost.dataset.runsLow = String(runsAtLeast);
+    this.cost.dataset.runsHigh = String(runsUpTo);
+    const parts = [el('strong', {}, 'Cost: '), `${runsAtLeast} to ${runsUpTo} DEM runs per lab condition (σ3)`];
+    if (run) {
+      try {
+        const { scheme } = await getJSON(`/schemes/${run.scheme_id}`);
+        const mp = Number(this.fields.max_particles.input.value);
+        if (mp > 0) scheme.max_particles = mp;
+        const e = await postJSON('/estimate', scheme);
+        const m = e.minutes_estimate;
+        parts.push(` · each ≈ ${e.grains} grains, ${rangeText(m.low, m.high)}`,
+          ` · in all about ${rangeText(m.low * runsAtLeast, m.high * runsUpTo)}`);
+        this.cost.dataset.minutesLow = String(m.low * runsAtLeast);
+      } catch (err) { parts.push(` · minutes unknown: ${err.message}`); }
+    }
+    this.cost.replaceChildren(...parts);
   }
 
   async refreshLists() {
@@ -73,9 +156,14 @@ export class DiagnosisView {
     try {
       const [runs, datasets, diag] = await Promise.all([getAll('/runs', 'runs'), getAll('/datasets', 'datasets'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
       if (seq !== this.listSeq) return;
+      this.runs = runs;
+      const keep = this.runSelect.value;
       this.runSelect.replaceChildren(...runs.filter(r => r.scheme_id != null)
         .map(r => el('option', { value: r.scheme_id }, `#${r.id} ${r.name || ''} (scheme ${r.scheme_id})`)));
+      if (keep) this.runSelect.value = keep;
+      const keepSet = this.datasetSelect.value;
       this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
+      if (keepSet) this.datasetSelect.value = keepSet;
       const list = diag.diagnoses || [];
       this.list.replaceChildren(list.length
         ? table('diagnoses-table', [
@@ -83,20 +171,23 @@ export class DiagnosisView {
           'dataset_id', 'status', d => num(d.progress_pct) + ' %', d => d.chosen_effect || '—', 'created_at'],
         list, ['id', 'dataset', 'status', 'progress', 'chosen effect', 'created'])
         : el('span', { class: 'hint' }, 'none yet'));
+      this.estimateCost();
     } catch (e) { this.error.textContent = e.message; }
   }
 
-  async start() {
+  async start(body = null, datasetId = null) {
     this.error.textContent = '';
     for (const f of Object.values(this.fields)) f.error.textContent = '';
-    const datasetId = Number(this.datasetSelect.value);
-    const schemeId = Number(this.runSelect.value);
-    if (!datasetId || !schemeId) { this.error.textContent = 'pick a dataset and a run whose scheme to use'; return; }
-    // Out-of-limits values are sent as typed: the server is the authority and its 422
-    // lands beside the field it names.
-    const value = key => Number(this.fields[key].input.value);
-    const body = { scheme_id: schemeId, budget_runs: value('budget_runs'), seed: value('seed') };
-    if (value('max_particles') !== 0) body.max_particles = value('max_particles');
+    datasetId ??= Number(this.datasetSelect.value);
+    if (!body) {
+      const schemeId = Number(this.runSelect.value);
+      if (!datasetId || !schemeId) { this.error.textContent = 'pick a dataset and a run whose scheme to use'; return; }
+      // Out-of-limits values are sent as typed: the server is the authority and its 422
+      // lands beside the field it names.
+      const value = key => Number(this.fields[key].input.value);
+      body = { scheme_id: schemeId, budget_runs: value('budget_runs'), seed: value('seed') };
+      if (value('max_particles') !== 0) body.max_particles = value('max_particles');
+    }
     try {
       const res = await postJSON(`/datasets/${datasetId}/diagnose`, body);
       this.follow(res.id);
@@ -113,6 +204,7 @@ export class DiagnosisView {
     this.stop();
     this.diagnosisId = id;
     this.lastStage = null;
+    this.rate = null;
     this.candidateRows = [];
     this.candidates.replaceChildren();
     this.report.replaceChildren(el('p', { class: 'hint' }, `diagnosis #${id}: waiting for the report…`));
@@ -120,20 +212,38 @@ export class DiagnosisView {
     const parse = ev => { try { return JSON.parse(ev.data); } catch { return null; } };
     this.source.addEventListener('progress', ev => {
       const d = parse(ev);
-      if (d) { this.lastStage = d.stage; this.showProgress('running', d.stage, d.progress_pct, d.eta_s); }
+      if (d) { this.lastStage = d.stage; this.showProgress('running', d.stage, d.progress_pct, this.eta(d.progress_pct)); }
     });
     this.source.addEventListener('candidate', ev => {
       const d = parse(ev);
       if (!d) return;
       this.candidateRows.push(d);
-      this.candidates.replaceChildren(el('h4', {}, 'Candidates tried'), table('diagnosis-candidates-table',
-        ['step', 'effect', 'fitted', r => paramText(r.parameters), 'nrmse', 'bic', 'delta_bic_vs_base', 'note'], this.candidateRows,
-        ['step', 'effect', 'fitted', 'parameters', 'NRMSE', 'BIC', 'ΔBIC vs base', 'note']));
+      this.renderCandidates(this.candidateRows);
     });
     const end = () => { this.source?.close(); this.poll(); };
     this.source.addEventListener('done', end);
     this.source.addEventListener('error', ev => { if (ev.data) end(); });
     this.poll();
+  }
+
+  // ETA from the progress rate seen on this page: the diagnosis's stream has no ETA.
+  eta(pct) {
+    const now = performance.now() / 1000;
+    if (!this.rate) { this.rate = { t0: now, p0: pct }; return null; }
+    const dp = pct - this.rate.p0, dt = now - this.rate.t0;
+    return dp > 0.2 && dt > 2 ? (100 - pct) * dt / dp : null;
+  }
+
+  renderCandidates(rows) {
+    // A candidate not fitted has no NRMSE or BIC: shown as "not fitted", not as 0.
+    const fitted = (r, k) => (r.fitted ? num(r[k]) : '—');
+    this.candidates.replaceChildren(el('h4', {}, 'Candidates tried'), table('diagnosis-candidates-table',
+      ['step', 'effect', r => (r.fitted ? 'yes' : 'not fitted'), r => this.paramText(r.parameters), r => fitted(r, 'nrmse'), r => fitted(r, 'bic'), r => fitted(r, 'delta_bic_vs_base'), 'note'], rows,
+      ['step', 'effect', 'fitted', 'parameters', 'NRMSE', 'BIC', 'ΔBIC vs base', 'note']));
+  }
+
+  paramText(ps) {
+    return (ps || []).map(p => { const l = labValue(p, this.scheme); return `${l.label} = ${num(l.value)}${l.unit && l.unit !== '–' && l.unit !== '×' ? ' ' + l.unit : ''}`; }).join('; ');
   }
 
   showProgress(status, stage, pct, eta) {
@@ -148,8 +258,10 @@ export class DiagnosisView {
     try {
       const d = await getJSON(`/diagnoses/${id}`);
       if (id !== this.diagnosisId) return;
+      this.diagnosis = d;
+      this.scheme = d.scheme || null;
       // GET /diagnoses/{id} has no stage; keep the last one the stream announced.
-      this.showProgress(d.status, d.stage || this.lastStage, d.progress_pct, d.eta_s);
+      this.showProgress(d.status, d.stage || this.lastStage, d.progress_pct, ACTIVE.has(d.status) ? this.eta(d.progress_pct) : null);
       if (d.report) { this.renderReport(d); return; }
       if (!ACTIVE.has(d.status)) {
         this.report.replaceChildren(el('p', { class: 'error' }, `${d.status}${d.error ? ': ' + d.error : ''}`));
@@ -160,6 +272,39 @@ export class DiagnosisView {
     this.timer = setTimeout(() => this.poll(), 2000);
   }
 
+  paramTable(id, ps) {
+    return table(id, [p => labValue(p, this.scheme).label, p => num(labValue(p, this.scheme).value), p => num(labValue(p, this.scheme).std),
+      p => labValue(p, this.scheme).unit, p => labValue(p, this.scheme).field], ps, ['parameter (as in the form)', 'value', '± std', 'unit', 'form field']);
+  }
+
+  // NRMSE per curve and phase, before and after the kept effects, as horizontal bars.
+  residualChart(before, after) {
+    const key = e => `${e.curve} · ${e.phase}`;
+    const rows = [...new Set([...(before || []), ...(after || [])].map(key))];
+    const get = (list, k) => (list || []).find(e => key(e) === k);
+    const max = Math.max(1e-9, ...[...(before || []), ...(after || [])].map(e => e.nrmse || 0));
+    const bar = (e, cls) => el('div', { class: `bar ${cls}`, style: `width:${Math.max(0.5, 100 * (e?.nrmse || 0) / max)}%`,
+      title: e ? `NRMSE ${num(e.nrmse)} · RMSE ${num(e.rmse)} ${e.unit || ''}` : 'not computed' });
+    return el('figure', { class: 'bars', id: 'diagnosis-residual-chart', role: 'img',
+      'aria-label': `NRMSE by curve and phase before and after the effects: ${rows.map(k => `${k} ${num(get(before, k)?.nrmse)} → ${num(get(after, k)?.nrmse)}`).join('; ')}` },
+    el('figcaption', {}, 'Residual (NRMSE of the lab range) by curve and phase: ',
+      el('span', { class: 'swatch before' }), ' calibrated base model ', el('span', { class: 'swatch after' }), ' with the kept effects'),
+    ...rows.map(k => el('div', { class: 'bar-row' }, el('span', { class: 'bar-label' }, k),
+      el('div', { class: 'bar-pair' }, bar(get(before, k), 'before'), bar(get(after, k), 'after')),
+      el('span', { class: 'bar-value' }, `${num(get(before, k)?.nrmse)} → ${num(get(after, k)?.nrmse)}`))));
+  }
+
+  async runWith(parameters, label) {
+    this.error.textContent = '';
+    try {
+      if (!this.scheme) throw new Error('the diagnosis carries no scheme');
+      const scheme = applyParameters(this.scheme, parameters);
+      scheme.name = `${scheme.name || 'scheme'} · ${label}`.slice(0, 120);
+      const res = await postJSON('/runs', { scheme });
+      location.hash = `#/runs/${res.id}`;
+    } catch (e) { this.error.textContent = `run with these parameters: ${e.message}`; }
+  }
+
   renderReport(d) {
     this.stop();
     const r = d.report;
@@ -168,9 +313,14 @@ export class DiagnosisView {
         r.effects?.length > 1 ? ` (effects: ${r.effects.join(', ')})` : '', el('br'), r.verdict || ''),
       el('p', { class: 'hint' }, `pooled NRMSE: calibrated base model ${num(r.nrmse_before)} → with the chosen effects ${num(r.nrmse_after)} · ${num(r.n_readings)} readings, ` +
         `${num(r.n_effective)} effectively independent · ${num(r.runs_used)} DEM runs`),
+      el('div', { class: 'row' },
+        el('button', { type: 'button', id: 'diagnosis-run-fitted', onclick: () => this.runWith([...(r.base_parameters || []), ...(r.parameters || [])], 'fitted') }, 'Run with these parameters'),
+        el('button', { type: 'button', id: 'diagnosis-rerun', onclick: () => this.rerun(d) }, 'Re-run this diagnosis')),
     ];
-    if (r.parameters?.length) parts.push(el('h4', {}, 'Fitted parameters'), table('diagnosis-parameters', ['name', 'value', 'std', 'unit'], r.parameters, ['parameter', 'value', '± std', 'unit']));
-    if (r.base_parameters?.length) parts.push(el('h4', {}, 'Base model parameters'), table('diagnosis-base-parameters', ['name', 'value', 'std', 'unit'], r.base_parameters, ['parameter', 'value', '± std', 'unit']));
+    if (r.error_before?.length || r.error_after?.length) parts.push(this.residualChart(r.error_before, r.error_after));
+    // The effects' parameters and the recalibrated base model's: two different sets.
+    if (r.parameters?.length) parts.push(el('h4', {}, `Parameters of the kept effects (${r.effects?.join(' + ') || r.chosen_effect})`), this.paramTable('diagnosis-parameters', r.parameters));
+    if (r.base_parameters?.length) parts.push(el('h4', {}, 'Calibrated base model'), this.paramTable('diagnosis-base-parameters', r.base_parameters));
     // Each error row carries its series' lab unit (kPa, %, mm); NRMSE is relative to the
     // lab series' range. "Before" is the base model *after* calibration, with no effect.
     const errCols = ['curve', 'phase', 'n', e => `${num(e.rmse)} ${e.unit || ''}`.trim(), e => num(e.nrmse)];
@@ -184,13 +334,18 @@ export class DiagnosisView {
       if (r.delta_bic.runners_up?.length) parts.push(table('diagnosis-runners-up', ['effect', 'delta_bic'], r.delta_bic.runners_up, ['runner-up effect', 'ΔBIC']));
     }
     if (r.steps?.length) parts.push(el('h4', {}, 'Selection steps'), table('diagnosis-steps', ['step', 'added', 'nrmse_before', 'nrmse_after', 'delta_bic', 'n_effective'], r.steps, ['step', 'added', 'NRMSE before', 'NRMSE after', 'ΔBIC', 'n eff']));
-    if (!this.candidateRows?.length && r.candidates?.length) {
-      this.candidates.replaceChildren(el('h4', {}, 'Candidates tried'), table('diagnosis-candidates-table',
-        ['step', 'effect', 'fitted', c => paramText(c.parameters), 'nrmse', 'bic', 'delta_bic_vs_base', 'note'], r.candidates,
-        ['step', 'effect', 'fitted', 'parameters', 'NRMSE', 'BIC', 'ΔBIC vs base', 'note']));
-    }
+    parts.push(el('p', { class: 'hint' }, 'The report carries no calibrated model curves; "Run with these parameters" runs the fitted model, whose curves the Lab comparison page draws over the lab readings.'));
+    if (!this.candidateRows?.length && r.candidates?.length) this.renderCandidates(r.candidates);
     this.report.replaceChildren(...parts);
     this.refreshLists();
+  }
+
+  rerun(d) {
+    const options = d.options || {};
+    const body = { ...options };
+    if (!this.scheme) { this.error.textContent = 'the diagnosis carries no scheme'; return; }
+    body.scheme = this.scheme;
+    this.start(body, d.dataset_id);
   }
 
   stop() {
@@ -198,5 +353,5 @@ export class DiagnosisView {
     if (this.source) this.source.close();
   }
 
-  close() { this.stop(); this.source = null; this.diagnosisId = null; }
+  close() { this.stop(); clearTimeout(this.costTimer); this.source = null; this.diagnosisId = null; }
 }

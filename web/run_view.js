@@ -1,9 +1,12 @@
-// One run's page: status, stage, progress and ETA at the top, then plots that grow as
-// the server-sent events of /runs/{id}/events arrive. The stream replays the history
-// to a late client, so a finished run is drawn the same way as a live one.
+// One run's page: status, stage, progress and ETA at the top, a live readout of the
+// current state (ea, q, p', ev; the creep stage's time and deformation), then plots that
+// grow as the server-sent events of /runs/{id}/events arrive. The stream replays the
+// history to a late client, so a finished run is drawn the same way as a live one.
+// Finished runs and uploaded lab readings can be overlaid on the plots while the run goes.
 
-import { el, getJSON, postJSON, progressElement, axisLabel } from './api.js';
-import { Plot } from './plot.js';
+import { el, getAll, getJSON, postJSON, progressElement, axisLabel } from './api.js';
+import { Chart } from './chart.js';
+import { SpecimenView } from './specimen_view.js';
 
 const ENERGY_KEYS = ['strain_J', 'slip_J', 'damping_J', 'kinetic_J', 'bond_J', 'boundary_work_J', 'creep_J', 'breakage_J'];
 const MEASURE_KEYS = ['z_displacement_mm', 'porosity', 'coordination', 'rotation_rate_x_rad_s', 'rotation_rate_y_rad_s', 'rotation_rate_z_rad_s'];
@@ -11,45 +14,147 @@ const SERIES_CSV = [
   ['stress-strain', 'q, p, σ1, σ3 vs axial strain'], ['volumetric', 'volumetric strain'],
   ['creep', 'creep, all stages'], ['energies', 'energies'], ['measurements', 'measurement spheres'],
 ];
+const fmt = (v, d = 3) => (v == null || !Number.isFinite(Number(v)) ? '—' : Number(v).toFixed(d));
+const col = (columns, name) => columns.indexOf(name);
+// Binary floating-point noise off (8.899999999999999 -> 8.9) for display.
+const tidy = v => (typeof v === 'number' ? Number(v.toPrecision(10)) : v);
 
 export class RunView {
-  constructor(container, runId, onLeave) {
+  constructor(container, runId) {
     this.container = container;
     this.id = runId;
-    this.onLeave = onLeave;
     this.source = null;
     this.measurements = []; // raw measurement events, re-plotted when the quantity changes
     this.stageLevels = {};  // creep stage -> stress level, from the `stage` events
+    this.creepStart = {};   // creep stage -> {t, dBefore}: its origin (coordinate translation)
+    this.lastCreep = null;  // the last raw creep reading (deformation before the next stage's load)
+    this.scheme = null;
     this.build();
     this.refreshStatus();
     this.connect();
   }
 
+  conditions() {
+    const s = this.scheme, r = this.run || {};
+    const parts = [`run #${this.id}${r.name ? ' ' + r.name : ''}`];
+    if (s) {
+      parts.push(`σ3 = ${tidy(s.loading?.confining_pressure_kPa)} kPa`);
+      if (s.specimen) parts.push(`w = ${tidy(s.specimen.moisture_content_pct)} %`, `specimen ${tidy(s.specimen.diameter_mm)} × ${tidy(s.specimen.height_mm)} mm`);
+      if (s.loading?.stress_levels) parts.push(`S = ${s.loading.stress_levels.join('/')}`);
+    }
+    return parts.join(' · ');
+  }
+
   build() {
     const id = this.id;
     this.header = el('div', { class: 'run-header' });
+    this.readout = el('div', { class: 'readout', id: 'live-readout', 'aria-live': 'polite', role: 'status' }, 'waiting for the first reading…');
     this.eventsInfo = el('span', { class: 'events-info' }, 'connecting…');
     const csvLinks = el('span', { class: 'csv-links' }, 'Server CSV: ',
       SERIES_CSV.map(([s, title]) => el('a', { href: `/runs/${id}/results/${s}?format=csv`, download: `run${id}_${s}.csv`, title }, s)));
+    this.overlayRun = el('select', { id: 'overlay-run', 'aria-label': 'finished run to overlay' });
+    this.overlaySet = el('select', { id: 'overlay-dataset', 'aria-label': 'lab dataset to overlay' });
+    this.overlayInfo = el('span', { class: 'hint', id: 'overlay-info' });
+    const overlay = el('div', { class: 'row overlay-bar' },
+      el('label', {}, 'overlay run ', this.overlayRun),
+      el('button', { type: 'button', id: 'overlay-run-add', onclick: () => this.addRunOverlay(Number(this.overlayRun.value)) }, 'add'),
+      el('label', {}, 'lab readings ', this.overlaySet),
+      el('button', { type: 'button', id: 'overlay-dataset-add', onclick: () => this.addDatasetOverlay(Number(this.overlaySet.value)) }, 'add'),
+      el('button', { type: 'button', id: 'overlay-clear', onclick: () => this.clearOverlays() }, 'clear overlays'),
+      this.overlayInfo);
     this.summaryBox = el('div', { class: 'summary' });
+    this.specimenBox = el('section', { class: 'card', id: 'specimen-card' });
     const grid = el('div', { class: 'plot-grid' });
     this.container.replaceChildren(
-      el('h2', {}, `Run ${id}`), this.header,
+      el('h2', {}, `Run ${id}`), this.header, this.readout,
       el('p', { class: 'toolbar' }, this.eventsInfo, ' ', csvLinks),
-      grid, this.summaryBox);
-    this.qPlot = new Plot(grid, { id: 'plot-q', title: 'Deviator stress vs axial strain', xLabel: 'axial strain (%)', yLabel: 'q (kPa)', fileName: `run${id}_q` });
-    this.vPlot = new Plot(grid, { id: 'plot-vol', title: 'Volumetric vs axial strain (contraction +)', xLabel: 'axial strain (%)', yLabel: 'volumetric strain (%)', fileName: `run${id}_volumetric` });
-    // Creep on linear and on log time side by side: the linear plot shows the instant
-    // deformation and the steady rate, the log plot the primary (log-time) part. Time is
-    // from the start of each stage (coordinate-translated); the log axis leaves out t = 0.
-    this.creepPlot = new Plot(grid, { id: 'plot-creep', title: 'Creep per stage, linear time (from stage start)', xLabel: 'time since stage start (min)', yLabel: 'axial deformation (mm)', xLogAllowed: true, fileName: `run${id}_creep` });
-    this.creepLogPlot = new Plot(grid, { id: 'plot-creep-log', title: 'Creep per stage, log time (from stage start)', xLabel: 'time since stage start (min, log)', yLabel: 'axial deformation (mm)', xLog: true, xLogAllowed: true, fileName: `run${id}_creep_log` });
-    this.energyPlot = new Plot(grid, { id: 'plot-energy', title: 'Energies', xLabel: 'mechanical step (cumulative over phases)', yLabel: 'energy (J)', fileName: `run${id}_energies` });
-    this.measurePlot = new Plot(grid, { id: 'plot-measure', title: 'Measurement spheres', xLabel: 'mechanical step', yLabel: axisLabel(MEASURE_KEYS[0]), fileName: `run${id}_measurements` });
+      overlay,
+      el('p', { class: 'hint plot-help' }, 'Plots: hover for values, drag a box to zoom, wheel to zoom time, shift-drag to pan, double-click or "reset" to see all; click a legend entry to hide or show it.'),
+      grid, this.specimenBox, this.summaryBox);
+    const cond = () => this.conditions();
+    const mk = o => new Chart(grid, { conditions: cond, ...o });
+    this.qPlot = mk({ id: 'plot-q', title: 'Deviator stress vs axial strain', xLabel: 'axial strain (%)', yLabel: 'q (kPa)', yFromZero: true, fileName: `run${id}_q` });
+    this.vPlot = mk({ id: 'plot-vol', title: 'Volumetric vs axial strain (contraction +)', xLabel: 'axial strain (%)', yLabel: 'volumetric strain (%)', fileName: `run${id}_volumetric` });
+    this.pqPlot = mk({ id: 'plot-pq', title: "Stress path q vs p'", xLabel: "p' (kPa)", yLabel: 'q (kPa)', yFromZero: true, fileName: `run${id}_stress_path` });
+    // Creep on linear and on log time: the linear plot shows the instant deformation and
+    // the steady rate, the log plot the primary (log-time) part. Each stage from its own
+    // origin (coordinate translation, as GET /runs/{id}/results/creep?stage=k): time from
+    // its load step, deformation from the level before it; the log axis leaves out t = 0.
+    this.creepPlot = mk({ id: 'plot-creep', title: 'Creep per stage, linear time (each stage from t = 0)', xLabel: 'time since stage start (min)', yLabel: 'deformation since stage load (mm)', xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep` });
+    this.creepLogPlot = mk({ id: 'plot-creep-log', title: 'Creep per stage, log time (each stage from t = 0)', xLabel: 'time since stage start (min, log)', yLabel: 'deformation since stage load (mm)', xLog: true, xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep_log` });
+    this.energyPlot = mk({ id: 'plot-energy', title: 'Energies', xLabel: 'mechanical step (cumulative over phases)', yLabel: 'energy (J)', fileName: `run${id}_energies` });
+    this.measurePlot = mk({ id: 'plot-measure', title: 'Measurement spheres', xLabel: 'mechanical step', yLabel: axisLabel(MEASURE_KEYS[0]), fileName: `run${id}_measurements` });
     this.measureKey = MEASURE_KEYS[0];
-    const pick = el('select', { class: 'measure-quantity' }, MEASURE_KEYS.map(k => el('option', { value: k }, axisLabel(k))));
+    const pick = el('select', { class: 'measure-quantity', 'aria-label': 'measured quantity' }, MEASURE_KEYS.map(k => el('option', { value: k }, axisLabel(k))));
     pick.addEventListener('change', () => { this.measureKey = pick.value; this.replotMeasurements(); });
-    this.measurePlot.root.querySelector('.plot-tools').prepend(pick);
+    this.measurePlot.tools.prepend(pick);
+    this.plots = [this.qPlot, this.vPlot, this.pqPlot, this.creepPlot, this.creepLogPlot, this.energyPlot, this.measurePlot];
+    this.loadOverlayLists();
+  }
+
+  async loadOverlayLists() {
+    try {
+      const [runs, sets] = await Promise.all([getAll('/runs', 'runs'), getAll('/datasets', 'datasets')]);
+      const done = runs.filter(r => r.status === 'done' && r.id !== this.id);
+      this.overlayRun.replaceChildren(...(done.length ? done.map(r => el('option', { value: r.id }, `#${r.id} ${r.name || ''}`))
+        : [el('option', { value: '' }, 'no other finished run')]));
+      this.overlaySet.replaceChildren(...(sets.length ? sets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`))
+        : [el('option', { value: '' }, 'no dataset uploaded')]));
+    } catch (e) { this.overlayInfo.textContent = e.message; }
+  }
+
+  async addRunOverlay(rid) {
+    if (!rid) return;
+    try {
+      const [ss, cr] = await Promise.all([getJSON(`/runs/${rid}/results/stress-strain`), getJSON(`/runs/${rid}/results/creep`)]);
+      const vol = await getJSON(`/runs/${rid}/results/volumetric`);
+      const name = `run #${rid}`;
+      const c = ss.columns, ea = col(c, 'axial_strain_pct'), q = col(c, 'q_kPa'), p = col(c, 'p_kPa');
+      const dash = [6, 4];
+      this.qPlot.setSeries(`${name} q`, ss.rows.map(r => [r[ea], r[q]]), { dash });
+      this.pqPlot.setSeries(`${name}`, ss.rows.map(r => [r[p], r[q]]), { dash });
+      this.vPlot.setSeries(`${name} εv`, vol.rows.map(r => [r[0], r[1]]), { dash });
+      const byStage = {};
+      for (const r of cr.rows) (byStage[r[0]] ||= []).push([r[1], r[2]]);
+      for (const [k, pts] of Object.entries(byStage)) {
+        this.creepPlot.setSeries(`${name} stage ${k}`, pts, { dash });
+        this.creepLogPlot.setSeries(`${name} stage ${k}`, pts, { dash });
+      }
+      this.overlayInfo.textContent = `overlaid ${name}`;
+    } catch (e) { this.overlayInfo.textContent = `run #${rid}: ${e.message}`; }
+  }
+
+  async addDatasetOverlay(did) {
+    if (!did) return;
+    try {
+      const d = await getJSON(`/datasets/${did}`);
+      let n = 0;
+      for (const curve of d.data?.curves || []) {
+        const c = curve.columns || [];
+        const get = (r, k) => (col(c, k) >= 0 && r[col(c, k)] != null ? Number(r[col(c, k)]) : NaN);
+        const style = { style: 'points' };
+        if (curve.kind === 'shear') {
+          const name = `lab #${did}${curve.confining_kPa != null ? ` @${curve.confining_kPa} kPa` : ''}`;
+          const q = curve.rows.map(r => [get(r, 'axial_strain_pct'), get(r, 'q_kPa')]);
+          this.qPlot.setSeries(`${name} q`, q, style);
+          this.pqPlot.setSeries(name, curve.rows.map(r => [Number(curve.confining_kPa) + get(r, 'q_kPa') / 3, get(r, 'q_kPa')]), style);
+          this.vPlot.setSeries(`${name} εv`, curve.rows.map(r => [get(r, 'axial_strain_pct'), get(r, 'volumetric_strain_pct')]), style);
+          n += curve.rows.length;
+        } else if (curve.kind === 'creep') {
+          const pts = curve.rows.map(r => [get(r, 'time_min'), get(r, 'axial_deformation_mm')]);
+          this.creepPlot.setSeries(`lab #${did} stage ${curve.stage}`, pts, style);
+          this.creepLogPlot.setSeries(`lab #${did} stage ${curve.stage}`, pts, style);
+          n += curve.rows.length;
+        }
+      }
+      this.overlayInfo.textContent = `overlaid dataset #${did} (${n} readings)`;
+      this.overlayInfo.dataset.readings = String(n);
+    } catch (e) { this.overlayInfo.textContent = `dataset #${did}: ${e.message}`; }
+  }
+
+  clearOverlays() {
+    for (const p of this.plots) p.removeSeries(n => /^(run #|lab #)/.test(n));
+    this.overlayInfo.textContent = '';
   }
 
   renderHeader(run) {
@@ -62,7 +167,7 @@ export class RunView {
       active ? el('button', { type: 'button', onclick: () => postJSON(`/runs/${this.id}/cancel`).then(() => this.refreshStatus()) }, 'Cancel') : null,
       !active ? el('button', { type: 'button', onclick: async () => { const r = await postJSON(`/runs/${this.id}/rerun`); location.hash = `#/runs/${r.id}`; } }, 'Re-run') : null,
       this.stageText(),
-      run.error ? el('span', { class: 'error' }, ` ${run.error}`) : null].filter(x => x != null));
+      run.error ? el('div', { class: 'error run-error', id: 'run-error' }, `Why it failed: ${run.error}`) : null].filter(x => x != null));
   }
 
   // The creep stage's load, as the `stage` event announces it.
@@ -79,14 +184,38 @@ export class RunView {
     try {
       const run = await getJSON(`/runs/${this.id}`);
       if (seq !== this.statusSeq) return;
+      if (!this.scheme && run.scheme_id != null) {
+        getJSON(`/schemes/${run.scheme_id}`).then(s => { this.scheme = s.scheme; }).catch(() => {});
+      }
       // Once the server says the run is over, the header's activity line is refreshed at once.
       if (!['queued', 'running'].includes(run.status) && !this.activityNotified) {
         this.activityNotified = true;
         window.dispatchEvent(new Event('triax-activity'));
       }
       this.renderHeader(run);
-      if (run.status === 'done') this.loadSummary();
+      if (run.status === 'done') { this.loadSummary(); this.loadSpecimen(); }
     } catch (e) { this.header.replaceChildren(el('span', { class: 'error' }, e.message)); }
+  }
+
+  // The last shear reading (εa, q, p', εv) stays in view; in creep the stage's reading
+  // (time and deformation from its origin, and the stage's q) follows it.
+  showReadout() {
+    const item = ([k, v, u, n]) => el('span', { class: 'readout-item', dataset: { key: k } }, el('b', {}, k), ` ${fmt(v, n)} ${u}`);
+    const parts = [];
+    const d = this.lastShear;
+    if (d) {
+      const sigma3 = d.p_kPa != null && d.q_kPa != null ? d.p_kPa - d.q_kPa / 3 : null;
+      parts.push(el('div', { class: 'readout-group', id: 'readout-shear' }, el('span', { class: 'readout-phase' }, this.lastCreepReading ? 'shear test (end)' : 'shear'),
+        ...[['εa', d.axial_strain_pct, '%', 3], ['q', d.q_kPa, 'kPa', 1], ["p'", d.p_kPa, 'kPa', 1], ['εv', d.volumetric_strain_pct, '%', 3], ['σ3', sigma3, 'kPa', 1]].map(item)));
+    }
+    const c = this.lastCreepReading;
+    if (c) {
+      const q = this.stageInfo?.q_target_kPa;
+      parts.push(el('div', { class: 'readout-group', id: 'readout-creep' },
+        el('span', { class: 'readout-phase' }, `creep stage ${c.stage}${this.stageLevels[c.stage] != null ? ` (S = ${this.stageLevels[c.stage]})` : ''}`),
+        ...[['t', c.t, 'min', 2], ['Δ deformation', c.d, 'mm', 4], ['εa', c.pct, '%', 3], ['q', q, 'kPa', 1]].map(item)));
+    }
+    if (parts.length) this.readout.replaceChildren(...parts);
   }
 
   connect() {
@@ -111,11 +240,27 @@ export class RunView {
     on('shear', d => {
       this.qPlot.append('q model', d.axial_strain_pct, d.q_kPa);
       this.vPlot.append('εv model', d.axial_strain_pct, d.volumetric_strain_pct);
+      this.pqPlot.append('model', d.p_kPa, d.q_kPa);
+      this.lastShear = d;
+      this.showReadout();
     });
+    // Raw creep readings are cumulative over the stages; each stage is drawn from its own
+    // origin: t - t_k (t_k its first reading, right after its load step) and d - d_before
+    // (d_before the last reading of the previous stage, 0 before the first stage).
     on('creep', d => {
-      const name = `stage ${d.stage}${this.stageLevels[d.stage] != null ? ` (S = ${this.stageLevels[d.stage]})` : ''}`;
-      this.creepPlot.append(name, d.time_min, d.axial_deformation_mm);
-      this.creepLogPlot.append(name, d.time_min, d.axial_deformation_mm);
+      const k = d.stage;
+      if (!this.creepStart[k]) {
+        const before = this.lastCreep && this.lastCreep.stage < k ? this.lastCreep.axial_deformation_mm : 0;
+        this.creepStart[k] = { t: d.time_min, dBefore: before };
+      }
+      const o = this.creepStart[k];
+      const t = d.time_min - o.t, dd = d.axial_deformation_mm - o.dBefore;
+      this.lastCreep = d;
+      const name = `stage ${k}${this.stageLevels[k] != null ? ` (S = ${this.stageLevels[k]})` : ''}`;
+      this.creepPlot.append(name, t, dd);
+      this.creepLogPlot.append(name, t, dd);
+      this.lastCreepReading = { stage: k, t, d: dd, pct: d.axial_strain_pct };
+      this.showReadout();
     });
     // Step counters may restart with each phase; keep the x axis cumulative.
     let stepOffset = 0, lastStep = -Infinity;
@@ -130,7 +275,7 @@ export class RunView {
       src.close();
       this.eventsInfo.textContent += ' · stream closed';
       this.refreshStatus();
-      if (d && d.detail) this.header.append(el('span', { class: 'error' }, ` ${d.detail}`));
+      if (d && d.detail && !this.run?.error) this.header.append(el('div', { class: 'error run-error' }, `Why it failed: ${d.detail}`));
     };
     on('done', finish);
     on('error', finish);
@@ -149,6 +294,11 @@ export class RunView {
     for (const d of this.measurements) this.plotMeasurement(d);
   }
 
+  loadSpecimen() {
+    if (this.specimen) return;
+    this.specimen = new SpecimenView(this.specimenBox, this.id);
+  }
+
   async loadSummary() {
     try {
       const s = await getJSON(`/runs/${this.id}/results/summary`);
@@ -158,18 +308,23 @@ export class RunView {
         if (v && typeof v === 'object' && !Array.isArray(v)) for (const [k2, v2] of Object.entries(v)) flat.push([`${axisLabel(k)} · ${axisLabel(k2)}`, v2]);
         else if (!Array.isArray(v)) flat.push([axisLabel(k), v]);
       }
-      const rows = flat.filter(([, v]) => v == null || typeof v !== 'object')
+      const rows = flat.filter(([, v]) => v != null && typeof v !== 'object')
         .map(([k, v]) => el('tr', {}, el('th', {}, k), el('td', {}, typeof v === 'number' ? Number(v.toPrecision(6)) : String(v))));
-      const parts = [el('h3', {}, 'Summary'), el('table', { class: 'kv', id: 'run-summary' }, rows)];
+      const parts = [el('h3', {}, 'Summary'), el('div', { class: 'table-scroll' }, el('table', { class: 'kv', id: 'run-summary' }, rows))];
       if (Array.isArray(s.creep_stages) && s.creep_stages.length) {
         const cols = Object.keys(s.creep_stages[0]).sort((a, b) => (b === 'stage') - (a === 'stage')); // stage first
-        parts.push(el('h3', {}, 'Creep stages'), el('table', { class: 'grid' },
+        const cell = v => (typeof v === 'number' ? Number(v.toPrecision(5)) : v == null ? '—' : String(v));
+        parts.push(el('h3', {}, 'Creep stages'), el('div', { class: 'table-scroll' }, el('table', { class: 'grid' },
           el('tr', {}, cols.map(c => el('th', {}, axisLabel(c)))),
-          s.creep_stages.map(r => el('tr', {}, cols.map(c => el('td', {}, typeof r[c] === 'number' ? Number(r[c].toPrecision(5)) : String(r[c])))))));
+          s.creep_stages.map(r => el('tr', {}, cols.map(c => el('td', {}, cell(r[c]))))))));
       }
       this.summaryBox.replaceChildren(...parts);
     } catch (e) { this.summaryBox.replaceChildren(el('p', { class: 'hint' }, `summary: ${e.message}`)); }
   }
 
-  close() { if (this.source) this.source.close(); }
+  close() {
+    if (this.source) this.source.close();
+    if (this.specimen) this.specimen.close();
+    for (const p of this.plots) p.destroy();
+  }
 }

@@ -57,6 +57,21 @@ function orderedEntries(obj, pointer) {
   return entries.map((e, i) => [e, i]).sort((a, b) => rank(a[0]) - rank(b[0]) || a[1] - b[1]).map(([e]) => e);
 }
 
+// The fields a lab engineer sets for a test, first and in these words (JSON pointer, label,
+// hint); the rest of the scheme is the model and goes under "Advanced". A list here rather
+// than a schema annotation: the page decides what it shows first, the schema what is valid.
+export const ESSENTIAL = [
+  ['/name', 'run name', null],
+  ['/loading/confining_pressure_kPa', 'confining pressure σ3', null],
+  ['/loading/stress_levels', 'creep stress levels S = q/q_f', 'one creep stage per level, each a share of the shear test\'s peak q'],
+  ['/loading/stage_durations_min', 'creep stage durations', 'one per stage; 3600 min = 2.5 days'],
+  ['/specimen/diameter_mm', 'specimen diameter', null],
+  ['/specimen/height_mm', 'specimen height', null],
+  ['/specimen/moisture_content_pct', 'moisture content w', null],
+  ['/loading/max_axial_strain_pct', 'shear test up to axial strain', null],
+  ['/max_particles', 'particle count (largest number of grains)', '0 = the full gradation; fewer grains are scaled up (faster, coarser)'],
+];
+
 // Strip binary floating-point noise (8.899999999999999 -> 8.9) for display only.
 const tidy = v => (typeof v === 'number' && Number.isFinite(v) ? Number(v.toPrecision(12)) : v);
 
@@ -76,8 +91,42 @@ export class SchemeForm {
 
   scheme() { return structuredClone(this.value); }
 
+  // The essential fields first, in the lab's words; every other field of the scheme (the
+  // model's parameters) under "Advanced", generated from the JSON Schema as before.
   render() {
-    this.container.replaceChildren(this.renderNode(this.value, this.schema, '', ''));
+    const essential = el('fieldset', { class: 'group essential', id: 'essential-fields' }, el('legend', {}, 'The test'));
+    const shown = new Set();
+    for (const [pointer, label, hint] of ESSENTIAL) {
+      const value = this.valueAt(pointer);
+      if (value === undefined) continue;
+      shown.add(pointer);
+      const key = pointer.split('/').pop();
+      const leaf = this.renderLeaf(value, this.schemaAt(pointer), pointer, key, label);
+      if (hint) leaf.append(el('span', { class: 'hint' }, hint));
+      essential.append(leaf);
+    }
+    const advancedTree = this.renderNode(this.value, this.schema, '', '', shown);
+    const count = advancedTree.querySelectorAll('input, select').length;
+    const advanced = el('details', { class: 'advanced', id: 'advanced-fields' },
+      el('summary', {}, `Advanced: model parameters (${count} fields: grains, contacts, bonds, creep law, effects)`), advancedTree);
+    advanced.open = this.advancedOpen || false;
+    advanced.addEventListener('toggle', () => { this.advancedOpen = advanced.open; });
+    this.container.replaceChildren(essential, advanced);
+  }
+
+  valueAt(pointer) {
+    let node = this.value;
+    for (const k of pointer.split('/').slice(1)) {
+      if (node == null || typeof node !== 'object') return undefined;
+      node = node[k.replace(/~1/g, '/').replace(/~0/g, '~')];
+    }
+    return node;
+  }
+
+  schemaAt(pointer) {
+    let s = this.schema;
+    for (const k of pointer.split('/').slice(1)) s = childSchema(s, k, this.schema);
+    return resolveRef(s, this.schema);
   }
 
   setAt(pointer, v) {
@@ -88,7 +137,7 @@ export class SchemeForm {
     node[Array.isArray(node) ? Number(last) : last] = v;
   }
 
-  renderNode(value, schema, pointer, key) {
+  renderNode(value, schema, pointer, key, skip = new Set()) {
     const s = resolveRef(schema, this.schema);
     const itemSchema = resolveRef(s.items || {}, this.schema);
     const objectItems = itemSchema.type === 'object' || itemSchema.properties;
@@ -98,7 +147,9 @@ export class SchemeForm {
       if (key !== '') box.append(el('legend', {}, String(key).replace(/_/g, ' ')));
       if (s.description && key !== '') box.append(el('p', { class: 'hint' }, s.description));
       for (const [k, v] of orderedEntries(value, pointer)) {
-        box.append(this.renderNode(v, childSchema(s, k, this.schema), `${pointer}/${escapeToken(k)}`, k));
+        const child = `${pointer}/${escapeToken(k)}`;
+        if (skip.has(child)) continue;
+        box.append(this.renderNode(v, childSchema(s, k, this.schema), child, k, skip));
       }
       return box;
     }
@@ -129,7 +180,7 @@ export class SchemeForm {
     return box;
   }
 
-  renderLeaf(value, s, pointer, key) {
+  renderLeaf(value, s, pointer, key, labelText = null) {
     const { base, unit } = splitUnit(key);
     const id = 'f' + pointer.replace(/[^A-Za-z0-9]+/g, '_');
     const error = el('span', { class: 'field-error', role: 'alert' });
@@ -173,7 +224,8 @@ export class SchemeForm {
     // no number field leaves its unit to guesswork (integers are counts, no mark).
     const itemType = Array.isArray(value) ? resolveRef(s.items || {}, this.schema).type : null;
     const dimensionless = !unit && (type === 'number' || itemType === 'number' || (typeof value === 'number' && !Number.isInteger(value) && type !== 'integer'));
-    const label = el('label', { for: id, title: s.description || pointer }, base.replace(/_/g, ' ') + (unit ? ` (${unit})` : dimensionless ? ' (–)' : ''));
+    const label = el('label', { for: id, title: s.description || pointer }, (labelText || base.replace(/_/g, ' ')) + (unit ? ` (${unit})` : dimensionless ? ' (–)' : ''));
+    if (s.description) input.setAttribute('aria-description', s.description);
     return el('div', { class: 'field', dataset: { pointer } }, label, input, limits, error);
   }
 
@@ -190,6 +242,8 @@ export class SchemeForm {
       const holder = [...this.container.querySelectorAll('[data-pointer]')]
         .find(e => e.dataset.pointer === p && (e.classList.contains('field') || e.classList.contains('group')));
       if (holder) {
+        const details = holder.closest('details');
+        if (details) details.open = true;
         const slot = holder.querySelector(':scope > .field-error') || holder.appendChild(el('span', { class: 'field-error', role: 'alert' }));
         slot.textContent = message;
         holder.classList.add('has-error');

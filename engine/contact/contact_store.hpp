@@ -8,12 +8,11 @@
 // normal_force > 0 is compression; shear_force is the shear force ON j (the force on i
 // is its opposite); rolling_moment is the rolling resistance moment ON j.
 //
-// The creep mechanism may read and write between cycles: creep_normal_offset (m, the
-// linear law uses overlap - creep_normal_offset), damage (in [0, 1], bond strengths are
-// scaled by 1 - damage), asperity_wear (in [0, 1), the Coulomb limit of an unbonded
+// Crushing (grain_crushing.hpp) writes plastic_overlap between cycles (m, the linear law
+// uses overlap - plastic_overlap; kept while the grains still overlap geometrically).
+// The creep mechanism (engine/creep) reads and writes between cycles: damage (bond
+// corrosion in [0, 1], bond strengths are scaled by 1 - damage), asperity_wear (in [0, 1), the Coulomb limit of an unbonded
 // contact is mu (1 - wear) Fn), creep_slip (m, the contact's accumulated delayed slip),
-// flow_threshold (mobilisation at which an aged contact starts its secondary flow),
-// sliding_slip (Coulomb sliding the law accumulates, read by the slow-slip weakening),
 // shear_force (viscous relaxation of the shear spring). All reset when a contact opens:
 // a new contact has fresh asperities.
 #include "engine/core/types.hpp"
@@ -37,12 +36,10 @@ struct ContactStore {
     std::vector<double> bond_normal_strength;  // N (tensile strength)
     std::vector<double> bond_shear_strength;   // N
     std::vector<double> reference_gap;       // m, gap at bond installation (bonded pairs start unloaded)
-    std::vector<double> creep_normal_offset; // m
-    std::vector<double> damage;              // [0, 1]
+    std::vector<double> plastic_overlap;     // m, crushed (lost) overlap of a crushable grain contact
+    std::vector<double> damage;              // [0, 1], bond corrosion
     std::vector<double> asperity_wear;       // [0, 1), friction loss of the contact
     std::vector<double> creep_slip;          // m, accumulated delayed (creep) slip
-    std::vector<double> flow_threshold;      // mobilisation an aged contact must reach to flow (0 = not aged)
-    std::vector<double> sliding_slip;        // m, Coulomb sliding since the creep mechanism last read it
     // Per-step results (slots gathered per particle in a fixed order).
     std::vector<Vec3> force_on_j;            // N, total contact force on j (on i: minus this)
     std::vector<Vec3> torque_on_i, torque_on_j;  // N m
@@ -57,8 +54,8 @@ struct ContactStore {
         i.resize(n); j.resize(n); law.resize(n); active.resize(n);
         normal_force.resize(n); shear_force.resize(n); rolling_moment.resize(n);
         bonded.resize(n); neck_cracked.resize(n); bond_normal_strength.resize(n); bond_shear_strength.resize(n);
-        reference_gap.resize(n); creep_normal_offset.resize(n); damage.resize(n);
-        asperity_wear.resize(n); creep_slip.resize(n); flow_threshold.resize(n); sliding_slip.resize(n);
+        reference_gap.resize(n); plastic_overlap.resize(n); damage.resize(n);
+        asperity_wear.resize(n); creep_slip.resize(n);
         force_on_j.resize(n); torque_on_i.resize(n); torque_on_j.resize(n);
         contact_point.resize(n); overlap.resize(n);
     }
@@ -73,12 +70,10 @@ struct ContactStore {
         bond_normal_strength[k] = 0.0;
         bond_shear_strength[k] = 0.0;
         reference_gap[k] = 0.0;
-        creep_normal_offset[k] = 0.0;
+        plastic_overlap[k] = 0.0;
         damage[k] = 0.0;
         asperity_wear[k] = 0.0;
         creep_slip[k] = 0.0;
-        flow_threshold[k] = 0.0;
-        sliding_slip[k] = 0.0;
         active[k] = 0;
     }
 
@@ -93,12 +88,10 @@ struct ContactStore {
         bond_normal_strength[to] = other.bond_normal_strength[from];
         bond_shear_strength[to] = other.bond_shear_strength[from];
         reference_gap[to] = other.reference_gap[from];
-        creep_normal_offset[to] = other.creep_normal_offset[from];
+        plastic_overlap[to] = other.plastic_overlap[from];
         damage[to] = other.damage[from];
         asperity_wear[to] = other.asperity_wear[from];
         creep_slip[to] = other.creep_slip[from];
-        flow_threshold[to] = other.flow_threshold[from];
-        sliding_slip[to] = other.sliding_slip[from];
     }
 };
 
@@ -116,21 +109,19 @@ struct WallContactStore {
     std::vector<Vec3> torque_on_particle;
     std::vector<Vec3> contact_point;
     std::vector<double> overlap;
-    std::vector<double> creep_normal_offset;
 
     std::size_t size() const { return particle.size(); }
     void resize(std::size_t n) {
         particle.resize(n); wall.resize(n); wall_kind.resize(n); law.resize(n); active.resize(n);
         normal_force.resize(n); shear_force.resize(n); force_on_particle.resize(n);
         torque_on_particle.resize(n); contact_point.resize(n); overlap.resize(n);
-        creep_normal_offset.resize(n);
     }
     void reset_history(std::size_t k) {
-        active[k] = 0; normal_force[k] = 0.0; shear_force[k].setZero(); creep_normal_offset[k] = 0.0;
+        active[k] = 0; normal_force[k] = 0.0; shear_force[k].setZero();
     }
     void copy_history(std::size_t to, const WallContactStore& o, std::size_t from) {
         active[to] = o.active[from]; normal_force[to] = o.normal_force[from];
-        shear_force[to] = o.shear_force[from]; creep_normal_offset[to] = o.creep_normal_offset[from];
+        shear_force[to] = o.shear_force[from];
     }
 };
 

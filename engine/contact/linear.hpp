@@ -66,7 +66,6 @@ struct LinearContact {
         double bond_shear_strength;
         double damage;
         double asperity_wear;        // [0, 1): friction loss of a worn contact
-        double* sliding_slip = nullptr;  // m, accumulates the Coulomb sliding (nullptr: not kept)
     };
 
     // What happened this step (energies in J).
@@ -166,7 +165,6 @@ struct LinearContact {
                 const double absorbed = -0.5 * (fs_rot + fs_new).dot(dus);
                 const double d_spring = p.ks > 0 ? (fs_new.squaredNorm() - fs_rot.squaredNorm()) / (2.0 * p.ks) : 0.0;
                 out.slip += absorbed - d_spring;
-                if (h.sliding_slip && p.ks > 0) *h.sliding_slip += (mag - limit) / p.ks;
                 fs = fs_new;
             }
         }

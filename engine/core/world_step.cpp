@@ -93,7 +93,7 @@ struct PairGeometry {
     PairGeometry g;
     g.d = pa.position[j] - pa.position[i];
     const double ri = pa.radius[i], rj = pa.radius[j];
-    g.shift = c.reference_gap[k] - c.creep_normal_offset[k];
+    g.shift = c.reference_gap[k] - c.plastic_overlap[k];
     const double reach = ri + rj + g.shift;
     g.d2 = g.d.squaredNorm();
     g.touching = c.bonded[k] || !(reach <= 0.0 || g.d2 >= reach * reach);
@@ -127,12 +127,12 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
         const int i = c.i[k], j = c.j[k];
         const double ri = pa.radius[i], rj = pa.radius[j];
         const double d2 = (pa.position[j] - pa.position[i]).squaredNorm();
-        // Opened. Creep offset survives while the spheres still overlap geometrically
-        // (the contact was relaxed, not separated).
+        // Opened. The plastic overlap (crushing) survives while the spheres still overlap
+        // geometrically (the contact was relaxed, not separated).
         const double geo = ri + rj + c.reference_gap[k];
-        const double keep_offset = (geo > 0 && d2 < geo * geo) ? c.creep_normal_offset[k] : 0.0;
+        const double keep_plastic = (geo > 0 && d2 < geo * geo) ? c.plastic_overlap[k] : 0.0;
         c.reset_history(k);
-        c.creep_normal_offset[k] = keep_offset;
+        c.plastic_overlap[k] = keep_plastic;
         c.force_on_j[k].setZero();
         c.torque_on_i[k].setZero();
         c.torque_on_j[k].setZero();
@@ -163,7 +163,7 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
         kin.dt = dt;
         LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k], &c.neck_cracked[k],
                                  c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
-                                 c.asperity_wear[k], &c.sliding_slip[k]};
+                                 c.asperity_wear[k]};
         const LinearContact::Outcome o = LinearContact::evaluate<kRolling, kStateEnergy>(params[c.law[k]], kin, h);
         sums.add(o);
         c.overlap[k] = kin.overlap;
@@ -254,13 +254,11 @@ void World::wall_contacts_pass(StepState& st) {
             dist = w.radius - rho;
             v_wall = w.velocity + w.radial_velocity * e;
         }
-        const double overlap = r - dist - wc.creep_normal_offset[k];
+        const double overlap = r - dist;
         wc.overlap[k] = overlap;
         if (!in_range || overlap <= 0.0) {
             if (wc.active[k]) {
-                const double keep = (in_range && r - dist > 0) ? wc.creep_normal_offset[k] : 0.0;
                 wc.reset_history(k);
-                wc.creep_normal_offset[k] = keep;
             }
             wc.force_on_particle[k].setZero();
             wc.torque_on_particle[k].setZero();

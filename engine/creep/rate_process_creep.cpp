@@ -7,22 +7,13 @@
 
 namespace triax::creep {
 
-RateProcessCreep::RateProcessCreep(const RateProcessParams& p) : p_(p) {
+RateProcessCreep::RateProcessCreep(const RateProcessParams& p, int soil_group) : p_(p), soil_group_(soil_group) {
     if (!(p.slip_rate_a_m_s >= 0.0)) throw InputError("creep.slip_rate_a_m_s: must be >= 0");
-    if (!(p.slip_capacity_m > 0.0)) throw InputError("creep.slip_capacity_m: must be > 0");
+    if (!(p.slip_hardening_length_m > 0.0)) throw InputError("creep.slip_hardening_length_m: must be > 0");
     if (!(p.capacity_offset > 0.0)) throw InputError("creep.capacity_offset: must be > 0");
-    if (!(p.flow_rate_scale >= 0.0)) throw InputError("creep.flow_rate_scale: must be >= 0");
-    if (!(p.flow_wear_length_m >= 0.0)) throw InputError("creep.flow_wear_length_m: must be >= 0");
     if (!(p.wear_length_m >= 0.0)) throw InputError("creep.wear_length_m: must be >= 0");
     if (!(p.wear_max >= 0.0 && p.wear_max < 1.0)) throw InputError("creep.wear_max: must be in [0, 1)");
-    if (!(p.slow_slip_wear_max >= 0.0 && p.slow_slip_wear_max < 1.0))
-        throw InputError("creep.slow_slip_wear_max: must be in [0, 1)");
-    if (!(p.slow_slip_wear_length_m > 0.0)) throw InputError("creep.slow_slip_wear_length_m: must be > 0");
-    if (!(p.corroded_bond_friction_loss >= 0.0 && p.corroded_bond_friction_loss < 1.0))
-        throw InputError("creep.corroded_bond_friction_loss: must be in [0, 1)");
     if (!(p.aging_margin >= 0.0 && p.aging_margin <= 1.0)) throw InputError("creep.aging_margin: must be in [0, 1]");
-    if (!(p.critical_mobilisation > 0.0 && p.critical_mobilisation <= 2.0))
-        throw InputError("creep.critical_mobilisation: must be in (0, 2] (> 1 switches the secondary flow off)");
 }
 
 namespace {
@@ -52,20 +43,10 @@ void RateProcessCreep::age(World& world) const {
     auto& c = world.contacts();
     const auto& grp = world.particles().group;
     for (std::size_t k = 0; k < c.size(); ++k) {
-        if (!c.active[k] || grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
+        if (!c.active[k] || grp[c.i[k]] != soil_group_ || grp[c.j[k]] != soil_group_) continue;
         const double f = mobilisation(c, world.contact_law_of(k), k);
-        if (f > 0.0) {
-            c.creep_slip[k] = std::max(c.creep_slip[k], equilibrium_slip(std::min(1.0, f + p_.aging_margin)));
-            // Flow needs the stage's load to raise f by the margin over its aged value;
-            // a threshold above 1 means the contact does not flow in this stage.
-            c.flow_threshold[k] = f + p_.aging_margin;
-        }
+        if (f > 0.0) c.creep_slip[k] = std::max(c.creep_slip[k], equilibrium_slip(std::min(1.0, f + p_.aging_margin)));
     }
-}
-
-void RateProcessCreep::forget_sliding(World& world) const {
-    auto& slid = world.contacts().sliding_slip;
-    std::fill(slid.begin(), slid.end(), 0.0);
 }
 
 CreepUpdateSummary RateProcessCreep::trial(const World& world, double dt) const {
@@ -89,12 +70,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
     // Serial loop in slot order: deterministic, and cheap next to the relaxation cycles.
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
-        if (grp[c.i[k]] != p_.soil_group || grp[c.j[k]] != p_.soil_group) continue;
-        // A contact whose corroded bond broke in the last relaxation: the gouge its weathered
-        // cement leaves lowers its friction before it creeps on (a trial leaves it as is).
-        if constexpr (kApply)
-            if (p_.corroded_bond_friction_loss > 0.0 && !c.bonded[k] && c.damage[k] > 0.0)
-                c.asperity_wear[k] = std::max(c.asperity_wear[k], p_.corroded_bond_friction_loss);
+        if (grp[c.i[k]] != soil_group_ || grp[c.j[k]] != soil_group_) continue;
         const ContactLaw& law = world.contact_law_of(k);
         const double fs = c.shear_force[k].norm();
         // A Mohr-Coulomb bond holds its contact: no slider, so no delayed slip while it
@@ -106,28 +82,16 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
             carried += fs;
             const double s = c.creep_slip[k];
             const double s_eq = equilibrium_slip(f);
-            double delta = 0.0, flow = 0.0;
-            if (p_.slip_rate_a_m_s > 0.0) {
+            double delta = 0.0;
+            if (p_.slip_rate_a_m_s > 0.0 && s < s_eq) {
                 const double rate0 = p_.slip_rate_a_m_s * std::sinh(p_.slip_beta * f);
-                if (s < s_eq) delta = std::min((s_eq - s) * -std::expm1(-rate0 * dt / s_eq), fs / law.ks);
-                // Secondary flow at or above the critical mobilisation (and above the aged
-                // threshold): steady slip at the rate-process rate, unbounded in total,
-                // until the spring has relaxed the mobilisation down to f_c.
-                if (f >= c.flow_threshold[k]) flow = flow_slip(f, fs, law.ks, dt);
-                delta = std::max(delta, flow);
+                delta = std::min((s_eq - s) * -std::expm1(-rate0 * dt / s_eq), fs / law.ks);
             }
             relaxed += law.ks * delta;
             // Asperity wear: the creep slip grinds the asperities (slip weakening).
-            // A flowing contact slides through its asperity junctions and grinds them
-            // over the shorter flow wear length.
             double wear = c.asperity_wear[k];
-            const bool flowing = flow > 0.0 && flow >= delta;
-            const double s_w = flowing && p_.flow_wear_length_m > 0.0 ? p_.flow_wear_length_m : p_.wear_length_m;
+            const double s_w = p_.wear_length_m;
             if (s_w > 0.0 && delta > 0.0) wear = p_.wear_max - (p_.wear_max - wear) * std::exp(-delta / s_w);
-            // Slow-slip weakening: the sliding since the last update happened at creep rates.
-            const double slid = c.sliding_slip[k];
-            if (p_.slow_slip_wear_max > wear && slid > 0.0)
-                wear = p_.slow_slip_wear_max - (p_.slow_slip_wear_max - wear) * std::exp(-slid / p_.slow_slip_wear_length_m);
             wear_sum += wear;
             if constexpr (kApply) {
                 const double fs_new = fs - law.ks * delta;
@@ -135,17 +99,13 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                 if (fs > 0.0) c.shear_force[k] *= fs_new / fs;
                 c.creep_slip[k] = s + delta;
                 c.asperity_wear[k] = wear;
-                c.sliding_slip[k] = 0.0;
-                // Slip erases the contact's aging (rate-and-state: the state variable
-                // renews over the slip): a flowing contact flows on from f_c.
-                if (flowing) c.flow_threshold[k] = 0.0;
             }
             out.max_slip_m = std::max(out.max_slip_m, delta);
         }
         if (c.bonded[k]) {
             ++bonded;
             double dmg = c.damage[k];
-            if (p_.bond_corrosion_b1_per_s > 0.0) {
+            if (p_.bond_corrosion_rate_b1_per_s > 0.0) {
                 const double fn = c.normal_force[k];
                 const double tn = c.bond_normal_strength[k], ss = c.bond_shear_strength[k];
                 if (coulomb_bond) {
@@ -170,7 +130,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                             bond_neck_moment_limit(law.rolling_friction, law.bond_rolling_friction, r_bar, fn, d);
                         return std::max(rho, limit > 0.0 ? m / limit : 0.0);
                     };
-                    auto rate_at = [&](double r) { return p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
+                    auto rate_at = [&](double r) { return p_.bond_corrosion_rate_b1_per_s * std::exp(p_.bond_corrosion_b2 * r); };
                     double left = dt;
                     bool grew = false;
                     while (left > 0.0 && dmg < 1.0) {
@@ -189,7 +149,7 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
                 } else {
                     const double rho = bond_utilisation(fn, fs, tn, ss, 0.0, law.friction, 0.0);
                     if (rho > p_.bond_corrosion_threshold) {
-                        dmg = std::min(1.0, dmg + p_.bond_corrosion_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
+                        dmg = std::min(1.0, dmg + p_.bond_corrosion_rate_b1_per_s * std::exp(p_.bond_corrosion_b2 * rho) * dt);
                         ++out.bonds_damaged;
                         if constexpr (kApply) c.damage[k] = dmg;
                     }

@@ -47,8 +47,8 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     m.bond_rolling_friction = 0.0;
     m.crushing_strength_pa = 0.0;
     fx.rolling_resistance = false;
-    fx.grain_breakage = false;
-    fx.breakage_damage_scale = 1.0;
+    fx.accelerated_bond_corrosion = false;
+    fx.bond_corrosion_scale = 1.0;
     fx.contact_creep_viscosity = false;
     fx.seating_error = false;
     fx.membrane_compliance = false;
@@ -150,7 +150,7 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
     if (creep_in_lab_) {
         h.push_back({"slip_beta", "-", scheme_.creep.slip_beta, "the creep law's shape; the creep effect scales its rate"});
         h.push_back({"slip_hardening_length", "m", scheme_.creep.slip_hardening_length_m, "the creep law's capacity"});
-        h.push_back({"damage_rate_b1", "1/s", scheme_.creep.damage_rate_b1_per_s, "the bonds' stress corrosion rate"});
+        h.push_back({"bond_corrosion_rate_b1", "1/s", scheme_.creep.bond_corrosion_rate_b1_per_s, "the bonds' stress corrosion rate"});
     }
     return h;
 }
@@ -180,7 +180,7 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
             // load onto crushable contacts).
             std::vector<ParameterSpec> p{{"grain_crushability", "-", 0.0, kCrushabilityMax, 1.0, false, true}};
             // Bond damage under load (stress corrosion of the bonds in the creep holds,
-            // breakage_damage_scale = 1 + extra): only creep curves of a bonded specimen
+            // bond_corrosion_scale = 1 + extra): only creep curves of a bonded specimen
             // can see it; off at 0 as well.
             if (creep_in_lab_)
                 p.push_back({"extra_bond_damage_rate", "-", 0.0, 9.0, 1.0, false, true});
@@ -218,8 +218,8 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
                 if (v[0] < 0.0) throw std::invalid_argument("grain_crushability must be >= 0");
                 s.micro.crushing_strength_pa = v[0] > 0.0 ? kCrushabilityReferencePa / v[0] : 0.0;
                 if (v.size() > 1 && v[1] > 0.0) {
-                    s.effects.grain_breakage = true;
-                    s.effects.breakage_damage_scale = 1.0 + v[1];
+                    s.effects.accelerated_bond_corrosion = true;
+                    s.effects.bond_corrosion_scale = 1.0 + v[1];
                 }
                 break;
             case Effect::ContactCreepViscosity:

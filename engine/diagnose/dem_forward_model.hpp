@@ -23,7 +23,8 @@
 //   rolling_resistance      -> rolling_friction mu_r (0..0.5, 0 = off)
 //   bond_degradation        -> grain crushing: crushability x = 0.6 MPa / sigma0 (0..2, 0 =
 //                              unbreakable); with creep curves of a bonded specimen also extra
-//                              bond damage e (0..9): effects.grain_breakage, scale 1 + e
+//                              bond damage e (0..9): effects.accelerated_bond_corrosion,
+//                              bond_corrosion_scale 1 + e
 //   contact_creep_viscosity -> the creep law on, its rate scaled (log 0.01..100); offered
 //                              only with creep curves
 //   moisture_bonding        -> not offered: the base calibrates the bond strength from 0

@@ -20,16 +20,14 @@ struct CreepRegime {
 };
 
 // Tertiary creep is the textbook one: the rate falls through primary creep to a minimum,
-// then rises. Session 12's flag compared only the last fifth with the fifth before and so
-// missed a stage whose fastest creep fell in the fourth fifth and stayed high in the fifth
-// (group A at S = 0.8: 0.12, 0.08, 0.41, 4.34, 2.04 mm per fifth). The minimum is taken over
-// fifths 2-4 (the first holds the primary creep). The late creep must also be a real share
-// of the stage's creep (5 %), so a converged stage's reading noise cannot raise the flag.
-// A stage that ruptured (`st.ruptured`: ran away, or collapsed, below) is accelerating by
-// definition. Both flags read the last fifth against the reading resolution as well: a last
-// fifth that creeps less than a reading can show is neither a tertiary stage nor an
-// unsettled one (group D seed 5 at S = 0.6: 10.2, 3.8, 2.4, 1.6 and 2.3 um per fifth, a
-// 200-mm specimen, read as "accelerating" before the floor).
+// then rises. The stage is read in fifths: it is accelerating when its last fifth creeps
+// more than 1.3 x the slowest of fifths 2-4 (the first holds the primary creep; a stage
+// fastest in its fourth fifth and still fast in its fifth is tertiary too) and more than
+// 5 % of the stage's creep (so a converged stage's reading noise cannot raise the flag). It
+// converged when its last fifth holds under 10 % of its creep. A stage that ruptured
+// (`st.ruptured`: ran away, or collapsed, below) is accelerating by definition. Both flags
+// read the last fifth against the reading resolution as well: a last fifth that creeps less
+// than a reading can show is neither a tertiary stage nor an unsettled one.
 inline CreepRegime classify_creep_regime(const CreepStageResult& st, double duration_s) {
     const double creep_part = st.final_deformation_m - st.instant_deformation_m;
     const CreepPoint* edge[6];  // the readings at the fifths' edges

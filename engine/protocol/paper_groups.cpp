@@ -6,8 +6,8 @@ namespace triax::protocol {
 
 namespace {
 // Crushing strength of the paper's grains (disintegrated carbonaceous mudstone;
-// docs/protocol.md, "Finding (2)"; 0.6 MPa before session 12, when the presets' grains
-// carried no cohesion: bonds raise the contact forces by 40-70 %, session 10).
+// docs/protocol.md, "Finding (2)"; with the bonds carrying cohesion the contact forces
+// are 40-70 % higher than in a cohesionless fill, whose grains would take 0.6 MPa).
 constexpr double kPaperCrushingStrengthPa = 1.0e6;
 // The presets' Mohr-Coulomb bonds (the fill's cohesion; Table 1 gives c = 25 kPa) and their
 // corrosion rate; the strength was chosen on the creep regimes, not fitted to c
@@ -42,7 +42,7 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     //   scheme default breaks at its shear strength whatever the normal force and adds no
     //   cohesion under compression.
     // - A contact that crushes loses its bond: the cement sits on the asperities that crush.
-    // - The bonds' stress corrosion at b1 = 3e-10 1/s, and their cement neck (session 18):
+    // - The bonds' stress corrosion at b1 = 3e-10 1/s, and their cement neck:
     //   an intact bond also holds a rolling moment up to 0.6 (1 - D) Rbar Fn and cracks
     //   there, and the neck's load drives its corrosion. The limit is the normal force's
     //   lever across the neck, a width, not a cement strength: moisture leaves it, and D and
@@ -59,7 +59,7 @@ TestScheme group_scheme(const std::string& name, double sigma3_pa, double moistu
     s.micro.bond_rolling_friction = kPaperBondRollingFriction;
     s.micro.bond_normal_strength_pa = kPaperBondStrengthPa;
     s.micro.bond_shear_strength_pa = kPaperBondStrengthPa;
-    s.creep.damage_rate_b1_per_s = kPaperBondCorrosionB1PerS;
+    s.creep.bond_corrosion_rate_b1_per_s = kPaperBondCorrosionB1PerS;
     // The paper's groups last about 10 days for 4 stages: 2.5 days per stage.
     s.loading.stage_durations_s = {2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0, 2.5 * 86400.0};
     return s;

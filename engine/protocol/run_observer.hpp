@@ -4,7 +4,12 @@
 // The default implementation ignores everything and never cancels.
 #include <string>
 
+#include "engine/protocol/specimen_snapshot.hpp"
 #include "engine/protocol/test_result.hpp"
+
+namespace triax {
+class World;
+}
 
 namespace triax::protocol {
 
@@ -16,10 +21,6 @@ struct CreepIncrementLog {
     double dt_s = 0.0;           // the piece (after splitting)
     long hold_cycles = 0;        // cycles of the relaxation that followed it
     long crushing_events = 0;    // contact return maps (yielding) during that relaxation
-    long grains_at_strength = 0; // grains with a contact at or above their intact strength (r >= 1)
-    long grains_failed = 0;      // grains at the fatigue cap D_max after the piece
-    double max_damage_increment = 0.0;  // largest fatigue growth dD of the piece
-    double max_force_ratio = 0.0;       // largest F_max / F_c of a grain not yet failed
     double deformation_m = 0.0;  // axial deformation after the relaxation
 };
 
@@ -37,6 +38,14 @@ public:
     virtual void energy_sample(const EnergySample&) {}
     virtual void measurement_sample(const MeasurementSample&) {}
     virtual void creep_increment(const CreepIncrementLog&) {}
+    // The specimen at the end of "generation", "consolidation", "shear" and each
+    // "creep-k" stage (specimen_snapshot.hpp). Copy what is kept: the reference is valid
+    // only during the call.
+    virtual void on_snapshot(const SpecimenSnapshot&) {}
+    // The specimen's world as a stage ends ("generation", "consolidation", "shear",
+    // "creep-k"): read it, do not keep the reference (the stored reference trajectory of
+    // tests/protocol digests positions and forces here).
+    virtual void stage_ended(const std::string& /*stage*/, const World& /*world*/) {}
     // Polled between increments; returning true ends the run with result.cancelled = true.
     virtual bool cancel_requested() { return false; }
 };

@@ -5,6 +5,7 @@
 
 #include "engine/creep/moisture_bond.hpp"
 #include "engine/protocol/gradation.hpp"
+#include "engine/protocol/imported_packing.hpp"
 
 namespace triax::protocol {
 
@@ -21,7 +22,7 @@ GrainCrushingParams crushing_params(const TestScheme& s) {
 }
 }  // namespace
 
-Specimen::Specimen(const TestScheme& s) : scheme_(s) {
+Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : scheme_(s), cancelled_(std::move(cancelled)) {
     s.validate();
     const double R = 0.5 * s.specimen.diameter_m, H = s.specimen.height_m;
     const double v_total = kPi * R * R * H;
@@ -29,10 +30,16 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     // Grain density from the dry density at the target porosity: rho_d = rho_s (1 - n).
     soil_density_ = s.specimen.dry_density_kg_m3 / (1.0 - s.specimen.target_porosity);
 
+    const bool imported = s.packing != nullptr;
+    if (imported) validate_packing(*s.packing, s);
     std::mt19937_64 rng(s.seed);
     GradationSpec g = s.gradation;
-    std::vector<double> radii = draw_radii(g, solid_volume_, rng);
-    if (s.max_particles > 0 && static_cast<int>(radii.size()) > s.max_particles) {
+    std::vector<double> radii = imported ? s.packing->radius : draw_radii(g, solid_volume_, rng);
+    if (imported) {
+        solid_volume_ = 0.0;
+        for (double r : radii) solid_volume_ += 4.0 / 3.0 * kPi * r * r * r;
+    }
+    if (!imported && s.max_particles > 0 && static_cast<int>(radii.size()) > s.max_particles) {
         // Reduced specimen: the same gradation shape scaled up until the count fits.
         const double f = std::cbrt(static_cast<double>(radii.size()) / s.max_particles) * 1.02;
         g.r_min_m *= f;
@@ -61,13 +68,17 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     // Table 3 moduli (docs/parameters.md): kn = pi r_mean E_n / 2 for the mean grain.
     soil_kn_ = 0.5 * kPi * r_mean_ * s.micro.normal_modulus_pa;
 
-    // Soil placed at 60 % of final size, largest first, rejection sampling.
-    constexpr double kShrink = 0.6;
+    // Soil placed at 60 % of final size, largest first, rejection sampling (an imported
+    // packing is placed as it is, at full size).
+    const double shrink = imported ? 1.0 : 0.6;
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<Vec3> placed;
     placed.reserve(radii.size());
+    for (std::size_t q = 0; q < radii.size() && imported; ++q) placed.push_back(s.packing->position[q]);
     for (double r_full : radii) {
-        const double r = kShrink * r_full;
+        if (imported) break;
+        poll_cancel();  // placement is O(N^2): a grain can take milliseconds when N is large
+        const double r = shrink * r_full;
         Vec3 best = Vec3::Zero();
         double best_gap = -1e9;
         for (int attempt = 0; attempt < 300; ++attempt) {
@@ -75,18 +86,16 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
             const Vec3 x(rr * std::cos(th), rr * std::sin(th), -0.5 * H + r_full + (H - 2.0 * r_full) * u(rng));
             double gap = 1e9;
             for (std::size_t q = 0; q < placed.size(); ++q)
-                gap = std::min(gap, (x - placed[q]).norm() - r - kShrink * radii[q]);
+                gap = std::min(gap, (x - placed[q]).norm() - r - shrink * radii[q]);
             if (gap > best_gap) { best_gap = gap; best = x; }
             if (gap >= 0.0) break;
         }
         placed.push_back(best);
     }
-    for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], kShrink * radii[q], soil_density_, kSoilGroup);
+    for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], shrink * radii[q], soil_density_, kSoilGroup);
 
     double rm = s.micro.membrane_particle_radius_m;
-    // Automatic: a quarter of the mean grain radius (no grain slips through the lattice)
-    // but not below the smallest grain, 1 mm .. D/20 (a few thousand membrane spheres).
-    if (rm <= 0.0) rm = std::clamp(std::max(rmin, 0.25 * r_mean_), 1.0e-3, 0.05 * s.specimen.diameter_m);
+    if (rm <= 0.0) rm = boundary::automatic_membrane_radius(rmin, r_mean_, s.specimen.diameter_m);
     membrane_ = std::make_unique<boundary::Membrane>(world_, R, H, rm, 1000.0, kMembraneGroup);
     world_.add_plane_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), kPlatenGroup);
     world_.add_plane_wall(Vec3(0, 0, 0.5 * H), -Vec3::UnitZ(), kPlatenGroup);
@@ -104,20 +113,35 @@ Specimen::Specimen(const TestScheme& s) : scheme_(s) {
     membrane_->bond(world_, 1.0e9);
     membrane_->set_fixed(world_, true);
 
-    // Radius expansion to full size, frictionless, inside the held membrane.
     auto& p = world_.particles();
+    if (imported) {
+        // An exported equilibrium state carries its residual velocities (an exact restart).
+        for (std::size_t q = 0; q < s.packing->velocity.size() && q < radii.size(); ++q) p.velocity[q] = s.packing->velocity[q];
+        for (std::size_t q = 0; q < s.packing->angular_velocity.size() && q < radii.size(); ++q)
+            p.angular_velocity[q] = s.packing->angular_velocity[q];
+        for (std::size_t k = 0; k < s.packing->platen_force_n.size() && k < 2; ++k) {
+            auto& wall = world_.plane_wall(static_cast<int>(k));
+            wall.force = -s.packing->platen_force_n[k] * wall.normal;
+        }
+        return;
+    }
+    // Radius expansion to full size, frictionless, inside the held membrane.
     constexpr int kGrowthSteps = 16;
     for (int k = 1; k <= kGrowthSteps; ++k) {
-        const double f = (kShrink + (1.0 - kShrink) * k / kGrowthSteps) / (kShrink + (1.0 - kShrink) * (k - 1) / kGrowthSteps);
+        const double f = (shrink + (1.0 - shrink) * k / kGrowthSteps) / (shrink + (1.0 - shrink) * (k - 1) / kGrowthSteps);
         for (int q = 0; q < soil_count_; ++q) {
             p.radius[q] *= f;
             p.mass[q] *= f * f * f;
             p.inertia[q] *= f * f * f * f * f;
         }
         world_.invalidate_neighbors();
+        poll_cancel();
         world_.cycle(300);
     }
-    for (int k = 0; k < 40 && world_.unbalanced_force_ratio() > 0.01; ++k) world_.cycle(250);
+    for (int k = 0; k < 40 && world_.unbalanced_force_ratio() > 0.01; ++k) {
+        poll_cancel();
+        world_.cycle(250);
+    }
 }
 
 Specimen::Specimen(const Specimen& o)
@@ -131,11 +155,11 @@ Specimen::Specimen(const Specimen& o)
       r_mean_(o.r_mean_),
       soil_count_(o.soil_count_),
       crush_force_(o.crush_force_),
-      fatigue_damage_(o.fatigue_damage_),
-      crush_force_now_(o.crush_force_now_),
-      fatigue_life_scale_(o.fatigue_life_scale_),
       crushing_on_(o.crushing_on_),
-      crushing_events_(o.crushing_events_) {}
+      crushing_events_(o.crushing_events_),
+      cancelled_(o.cancelled_),
+      reference_(o.reference_),
+      rotation_(o.rotation_) {}
 
 ContactLaw Specimen::soil_law(bool friction_on) const {
     ContactLaw l;
@@ -179,47 +203,13 @@ void Specimen::set_laws(bool friction_on) {
 
 void Specimen::install_test_laws() { set_laws(true); }
 
-void Specimen::enable_crushing() {
-    crushing_on_ = !crush_force_.empty();
-    fatigue_damage_.assign(crush_force_.size(), 0.0);
-    crush_force_now_ = crush_force_;
-    // Brittle lifetime law t_f = B S^(n-2) sigma^-n: at a fixed ratio r = sigma / S the life
-    // goes as S^-2, so a grain's t0 scales with (S_i / sigma0)^-2 (no new random numbers).
-    fatigue_life_scale_.assign(crush_force_.size(), 1.0);
-    const double s_ref = scheme_.micro.crushing_strength_pa;
-    for (std::size_t i = 0; i < crush_force_.size() && s_ref > 0.0; ++i) {
-        const double d = 2.0 * world_.particles().radius[i];
-        fatigue_life_scale_[i] = triax::fatigue_life_scale(crush_force_[i] / (d * d), s_ref);
-    }
-}
-
-namespace {
-// Each grain's drive ratio for the fatigue law p (grain_crushing.hpp).
-std::vector<double> drive_ratios(const World& w, int n_grains, const std::vector<double>& f_c, const GrainFatigueParams& p) {
-    std::vector<double> ratio;
-    grain_drive_ratios(w.contacts(), &w.wall_contacts(), &w.particles(), n_grains, f_c, p.drive, ratio);
-    return ratio;
-}
-}  // namespace
-
-FatigueSummary Specimen::advance_fatigue(double dt, const GrainFatigueParams& p, bool apply) {
-    if (!crushing_on_ || !p.enabled()) return {};
-    return fatigue_grains(drive_ratios(world_, soil_count_, crush_force_, p), p.strength_spread ? &fatigue_life_scale_ : nullptr,
-                          crush_force_, fatigue_damage_, crush_force_now_, dt, p, apply);
-}
-
-long Specimen::fail_short_lived_grains(const GrainFatigueParams& p) {
-    if (!crushing_on_ || !p.enabled() || p.instant_life_s <= 0.0) return 0;
-    return triax::fail_short_lived_grains(drive_ratios(world_, soil_count_, crush_force_, p),
-                                          p.strength_spread ? &fatigue_life_scale_ : nullptr, crush_force_, fatigue_damage_,
-                                          crush_force_now_, p);
-}
+void Specimen::enable_crushing() { crushing_on_ = !crush_force_.empty(); }
 
 long Specimen::install_soil_bonds() {
     // No cement, no bond: a zero-strength bond would still act as a Mohr-Coulomb contact
     // with the bond's friction instead of the grains'.
     const auto& m = scheme_.micro;
-    if (m.bond_normal_strength_pa <= 0.0 && m.bond_shear_strength_pa <= 0.0 && m.bond_load_ratio <= 0.0) return 0;
+    if (m.bond_normal_strength_pa <= 0.0 && m.bond_shear_strength_pa <= 0.0) return 0;
     const double factor = scheme_.effects.moisture_bonding ? creep::bond_strength_factor(scheme_.specimen.moisture_content) : 1.0;
     world_.bond_contacts(kSoilGroup, kSoilGroup, 1.0e-3 * r_mean_, 1.0, 1.0);
     auto& c = world_.contacts();
@@ -231,29 +221,34 @@ long Specimen::install_soil_bonds() {
         if (world_.particles().group[a] != kSoilGroup || world_.particles().group[b] != kSoilGroup) continue;
         const double rmin = std::min(r[a], r[b]);
         const double cross_section = kPi * rmin * rmin;
-        // Cemented under load: the consolidation force adds to the cement's strength.
-        const double under_load = scheme_.micro.bond_load_ratio * std::max(c.normal_force[k], 0.0);
-        c.bond_normal_strength[k] = factor * (scheme_.micro.bond_normal_strength_pa * cross_section + under_load);
-        c.bond_shear_strength[k] = factor * (scheme_.micro.bond_shear_strength_pa * cross_section + under_load);
+        c.bond_normal_strength[k] = factor * (scheme_.micro.bond_normal_strength_pa * cross_section);
+        c.bond_shear_strength[k] = factor * (scheme_.micro.bond_shear_strength_pa * cross_section);
         ++n;
     }
     return n;
 }
 
 void Specimen::cycle(long n, double confining_pa) {
+    poll_cancel();
     for (long done = 0; done < n; done += kMembraneUpdateEvery) {
         membrane_->apply_pressure(world_, confining_pa);
-        world_.cycle(std::min<long>(kMembraneUpdateEvery, n - done));
+        const long m = std::min<long>(kMembraneUpdateEvery, n - done);
+        world_.cycle(m);
+        const auto& omega = world_.particles().angular_velocity;
+        for (std::size_t i = 0; i < rotation_.size(); ++i) rotation_[i] += omega[i] * (m * world_.time_step());
         if (crushing_on_) {
-            const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_now_,
+            const CrushSummary c = crush_contacts(world_.contacts(), world_.particles(), soil_count_, crush_force_,
                                                   soil_kn_, scheme_.micro.crushing_hardening_ratio,
-                                                  scheme_.micro.crushing_friction_loss,
-                                                  scheme_.micro.crushing_residual_ratio,
                                                   scheme_.micro.crushing_breaks_bond);
             crushing_events_ += c.crushing;
             world_.energy().breakage += c.dissipated_j;
         }
     }
+}
+
+void Specimen::mark_reference() {
+    reference_ = world_.particles().position;
+    rotation_.assign(reference_.size(), Vec3::Zero());
 }
 
 double Specimen::top_z() const { return world_.plane_wall_count() ? const_cast<World&>(world_).plane_wall(1).point.z() : 0.0; }

@@ -2,6 +2,7 @@
 // The triaxial specimen as a DEM model: soil spheres inside the bonded-particle membrane
 // between two rigid platens (plane walls), and the measurements on it. Axis z, centre at
 // the origin; groups: soil 0, membrane 1, platens 2. SI units, compression positive.
+#include <functional>
 #include <memory>
 #include <random>
 
@@ -16,13 +17,21 @@ constexpr int kSoilGroup = 0;
 constexpr int kMembraneGroup = 1;
 constexpr int kPlatenGroup = 2;
 
+// Thrown by the specimen's generation and by cycle() when the caller's cancel check
+// (set_cancel_check) answers true: the run stops within one chunk of cycles.
+struct SpecimenCancelled {};
+
 class Specimen {
 public:
     // Generates the soil at the target porosity by radius expansion inside the (held)
     // membrane: radii drawn from the gradation fill (1 - n) of the specimen volume, are
     // placed at 60 % size without overlap (seeded), then grown to full size in steps with
     // frictionless contacts, and relaxed to equilibrium. Deterministic for scheme.seed.
-    explicit Specimen(const TestScheme& scheme);
+    // With scheme.packing the grains are the imported ones instead (validated against the
+    // specimen, validate_packing): no generation, the membrane and platens are built
+    // around them and the protocol runs from there. `cancelled` (optional) is polled while
+    // grains are placed and grown and becomes the cancel check of cycle() (SpecimenCancelled).
+    explicit Specimen(const TestScheme& scheme, std::function<bool()> cancelled = {});
     // A deep copy (world and membrane): a second test on the same consolidated specimen
     // without generating and consolidating it again.
     Specimen(const Specimen& other);
@@ -44,24 +53,20 @@ public:
 
     // Cycles n steps, refreshing the membrane follower forces every few steps; crushable
     // contacts are return-mapped after every such chunk.
+    // Throws SpecimenCancelled when the cancel check answers true (polled once a call).
     void cycle(long n, double confining_pa);
+    void set_cancel_check(std::function<bool()> cancelled) { cancelled_ = std::move(cancelled); }
     // Crushing events (contacts x passes) since enable_crushing().
     long crushing_events() const { return crushing_events_; }
     // Grain i's crushing force F_c (N); empty when crushing is off.
     const std::vector<double>& crushing_forces() const { return crush_force_; }
-    // Static fatigue of crushable grains over a creep increment dt (grain_crushing.hpp):
-    // grows each grain's damage at its present peak contact force and lowers its crushing
-    // force to F_c (1 - D) for the return map of the next cycles. apply = false: dry run.
-    // The drive (peak force or grain stress) and the life scale follow p (GrainFatigueParams).
-    FatigueSummary advance_fatigue(double dt, const GrainFatigueParams& p, bool apply = true);
-    // Instantaneous crushing (p.instant_life_s > 0): grains whose life at the present forces
-    // is shorter than that fail now; returns how many (the caller relaxes and repeats).
-    long fail_short_lived_grains(const GrainFatigueParams& p);
-    // Grain i's life scale t0_i / t0 = (S_i / sigma0)^-2 (brittle lifetime law; used when
-    // p.strength_spread), S_i = F_c,i / d_i^2; empty when crushing is off.
-    const std::vector<double>& fatigue_life_scale() const { return fatigue_life_scale_; }
-    // Grain i's fatigue damage D (empty when crushing is off).
-    const std::vector<double>& fatigue_damage() const { return fatigue_damage_; }
+
+    // Displacement and rotation reference: the positions now, rotations zeroed (the start
+    // of consolidation). Rotations accumulate over cycle() (omega dt at each membrane update).
+    void mark_reference();
+    const std::vector<Vec3>& reference_positions() const { return reference_; }
+    const std::vector<Vec3>& rotation() const { return rotation_; }
+    bool crushing_on() const { return crushing_on_; }
 
     double top_z() const;
     double bottom_z() const;
@@ -90,11 +95,14 @@ private:
     double r_mean_ = 0.0;
     int soil_count_ = 0;
     std::vector<double> crush_force_;  // N, per soil grain (Weibull strength x d^2)
-    std::vector<double> fatigue_damage_;      // D per soil grain (static fatigue)
-    std::vector<double> crush_force_now_;     // N, F_c (1 - D): what the return map uses
-    std::vector<double> fatigue_life_scale_;  // (S_i / sigma0)^-2 per soil grain
     bool crushing_on_ = false;
     long crushing_events_ = 0;
+    std::function<bool()> cancelled_;
+    void poll_cancel() const {
+        if (cancelled_ && cancelled_()) throw SpecimenCancelled{};
+    }
+    std::vector<Vec3> reference_;  // m, positions at mark_reference() (all particles)
+    std::vector<Vec3> rotation_;   // rad, accumulated rotation vector since then
 };
 
 }  // namespace triax::protocol

@@ -47,8 +47,6 @@ struct CreepStageResult {
     // stage, and the test, end at rupture_time_s (stage time), as a lab's would.
     bool ruptured = false;
     double rupture_time_s = 0.0;
-    int failed_grains = 0;               // grains broken by static fatigue (D = D_max) by the stage end, cumulative
-    int instant_failed_grains = 0;       // of them, broken at once at the stage's loading step (instant crushing)
 };
 
 // The reading on a stage's translated curve at stage time t_s: the last one at or before

@@ -5,10 +5,16 @@
 
 #include "engine/core/types.hpp"
 #include "engine/protocol/gradation.hpp"
+#include "engine/protocol/run_estimate.hpp"
+#include "engine/protocol/specimen_budget.hpp"
 
 namespace triax::protocol {
 
 namespace {
+constexpr double kMaxModulusPa = 1.0e12;            // diamond ~1.2e12
+constexpr double kMaxStiffnessNm = 1.0e12;
+constexpr double kMaxStageDurationS = 365.25 * 86400.0;
+
 void require(bool ok, const std::string& field, const std::string& why) {
     if (!ok) throw InputError(field + ": " + why);
 }
@@ -28,51 +34,37 @@ void TestScheme::validate() const {
             "largest radius must be below a quarter of the specimen diameter");
     require(micro.friction >= 0.0 && micro.friction < 5.0, "micro.friction", "must be in [0, 5)");
     require(micro.local_damping >= 0.0 && micro.local_damping < 1.0, "micro.local_damping", "must be in [0, 1)");
-    require(micro.normal_modulus_pa > 0.0, "micro.normal_modulus_pa", "must be > 0");
-    require(micro.shear_modulus_pa > 0.0, "micro.shear_modulus_pa", "must be > 0");
-    require(micro.wall_normal_stiffness_n_m > 0.0, "micro.wall_normal_stiffness_n_m", "must be > 0");
+    // Upper limits keep the critical time step, and so the run's length, finite.
+    require(micro.normal_modulus_pa > 0.0 && micro.normal_modulus_pa <= kMaxModulusPa, "micro.normal_modulus_pa",
+            "must be in (0, 1e12] Pa");
+    require(micro.shear_modulus_pa > 0.0 && micro.shear_modulus_pa <= kMaxModulusPa, "micro.shear_modulus_pa",
+            "must be in (0, 1e12] Pa");
+    require(micro.wall_normal_stiffness_n_m > 0.0 && micro.wall_normal_stiffness_n_m <= kMaxStiffnessNm,
+            "micro.wall_normal_stiffness_n_m", "must be in (0, 1e12] N/m");
+    require(micro.wall_shear_stiffness_n_m >= 0.0 && micro.wall_shear_stiffness_n_m <= kMaxStiffnessNm,
+            "micro.wall_shear_stiffness_n_m", "must be in [0, 1e12] N/m");
     require(micro.bond_normal_strength_pa >= 0.0, "micro.bond_normal_strength_pa", "must be >= 0");
     require(micro.bond_shear_strength_pa >= 0.0, "micro.bond_shear_strength_pa", "must be >= 0");
     require(micro.bond_friction >= 0.0 && micro.bond_friction < 5.0, "micro.bond_friction", "must be in [0, 5)");
-    require(micro.bond_load_ratio >= 0.0 && micro.bond_load_ratio <= 100.0, "micro.bond_load_ratio", "must be in [0, 100]");
     require(micro.bond_rolling_friction >= 0.0 && micro.bond_rolling_friction <= 1.0, "micro.bond_rolling_friction",
             "must be in [0, 1] (the neck's half-width over the contact's effective radius)");
     require(micro.membrane_particle_radius_m >= 0.0, "micro.membrane_particle_radius_m", "must be >= 0");
-    require(micro.membrane_stiffness_n_m > 0.0, "micro.membrane_stiffness_n_m", "must be > 0");
+    require(micro.membrane_stiffness_n_m > 0.0 && micro.membrane_stiffness_n_m <= kMaxStiffnessNm,
+            "micro.membrane_stiffness_n_m", "must be in (0, 1e12] N/m");
     require(micro.crushing_strength_pa >= 0.0, "micro.crushing_strength_pa", "must be >= 0 (0 = no crushing)");
     require(micro.crushing_reference_diameter_m > 0.0, "micro.crushing_reference_diameter_m", "must be > 0");
     require(micro.crushing_weibull_modulus >= 1.0 && micro.crushing_weibull_modulus <= 50.0,
             "micro.crushing_weibull_modulus", "must be in [1, 50]");
-    require(micro.crushing_hardening_ratio > -1.0 && micro.crushing_hardening_ratio <= 10.0,
-            "micro.crushing_hardening_ratio", "must be in (-1, 10] (< 0 softens)");
-    require(micro.crushing_residual_ratio >= 0.0 && micro.crushing_residual_ratio <= 1.0,
-            "micro.crushing_residual_ratio", "must be in [0, 1]");
-    require(micro.crushing_friction_loss >= 0.0 && micro.crushing_friction_loss < 1.0, "micro.crushing_friction_loss",
-            "must be in [0, 1) (0 = a crushed contact keeps its friction)");
+    require(micro.crushing_hardening_ratio >= 0.0 && micro.crushing_hardening_ratio <= 10.0,
+            "micro.crushing_hardening_ratio", "must be in [0, 10]");
     require(creep.slip_rate_a_m_s >= 0.0, "creep.slip_rate_a_m_s", "must be >= 0");
     require(creep.slip_beta > 0.0, "creep.slip_beta", "must be > 0");
     require(creep.slip_hardening_length_m > 0.0, "creep.slip_hardening_length_m", "must be > 0");
     require(creep.capacity_offset > 0.0 && creep.capacity_offset <= 1.0, "creep.capacity_offset", "must be in (0, 1]");
     require(creep.aging_margin >= 0.0 && creep.aging_margin <= 1.0, "creep.aging_margin", "must be in [0, 1]");
-    require(creep.critical_mobilisation > 0.0 && creep.critical_mobilisation <= 2.0, "creep.critical_mobilisation",
-            "must be in (0, 2] (> 1 switches the secondary flow off)");
     require(creep.wear_length_m >= 0.0, "creep.wear_length_m", "must be >= 0");
-    require(creep.flow_rate_scale >= 0.0, "creep.flow_rate_scale", "must be >= 0");
-    require(creep.flow_wear_length_m >= 0.0, "creep.flow_wear_length_m", "must be >= 0");
     require(creep.wear_max >= 0.0 && creep.wear_max < 1.0, "creep.wear_max", "must be in [0, 1)");
-    require(creep.slow_slip_wear_max >= 0.0 && creep.slow_slip_wear_max < 1.0, "creep.slow_slip_wear_max",
-            "must be in [0, 1)");
-    require(creep.slow_slip_wear_length_m > 0.0, "creep.slow_slip_wear_length_m", "must be > 0");
-    require(creep.corroded_bond_friction_loss >= 0.0 && creep.corroded_bond_friction_loss < 1.0,
-            "creep.corroded_bond_friction_loss", "must be in [0, 1)");
-    require(creep.damage_rate_b1_per_s >= 0.0, "creep.damage_rate_b1_per_s", "must be >= 0");
-    require(creep.grain_fatigue_time_s >= 0.0, "creep.grain_fatigue_time_s", "must be >= 0 (0 = no static fatigue)");
-    require(creep.grain_fatigue_exponent >= 1.0 && creep.grain_fatigue_exponent <= 100.0, "creep.grain_fatigue_exponent",
-            "must be in [1, 100]");
-    require(creep.grain_fatigue_ratio_cap >= 1.0 && creep.grain_fatigue_ratio_cap <= 10.0, "creep.grain_fatigue_ratio_cap",
-            "must be in [1, 10]");
-    require(creep.grain_fatigue_instant_life_s >= 0.0 && creep.grain_fatigue_instant_life_s <= 3600.0,
-            "creep.grain_fatigue_instant_life_s", "must be in [0, 3600] s (0 = off)");
+    require(creep.bond_corrosion_rate_b1_per_s >= 0.0, "creep.bond_corrosion_rate_b1_per_s", "must be >= 0");
     require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,
             "creep.max_relaxation_per_increment", "must be in (0, 1]");
     require(creep.first_increment_s > 0.0, "creep.first_increment_s", "must be > 0");
@@ -86,7 +78,8 @@ void TestScheme::validate() const {
     require(loading.stage_durations_s.size() == loading.stress_levels.size(), "loading.stage_durations_s",
             "needs one duration per stress level");
     for (std::size_t i = 0; i < loading.stage_durations_s.size(); ++i)
-        require(loading.stage_durations_s[i] > 0.0, "loading.stage_durations_s[" + std::to_string(i) + "]", "must be > 0");
+        require(loading.stage_durations_s[i] > 0.0 && loading.stage_durations_s[i] <= kMaxStageDurationS,
+                "loading.stage_durations_s[" + std::to_string(i) + "]", "must be in (0, 1 year]");
     require(loading.cohesion_pa >= 0.0, "loading.cohesion_pa", "must be >= 0");
     require(loading.friction_angle_deg > 0.0 && loading.friction_angle_deg < 89.0, "loading.friction_angle_deg",
             "must be in (0, 89) deg");
@@ -99,6 +92,11 @@ void TestScheme::validate() const {
             "loading.consolidation_tolerance", "must be in (0, 0.5)");
     require(threads >= 1 && threads <= 256, "threads", "must be in [1, 256]");
     require(max_particles >= 0, "max_particles", "must be >= 0");
+    // Size of the specimen before anything is drawn (specimen_budget.hpp), whatever
+    // max_particles says: the builder draws the uncapped gradation first.
+    check_specimen_budget(*this);
+    // A chosen membrane lattice must hold the grains (run_estimate.hpp).
+    check_membrane_holds_grains(*this);
 }
 
 }  // namespace triax::protocol

@@ -2,7 +2,6 @@
 // The whole protocol of the seed paper on one specimen: generation at the target porosity
 // by radius expansion inside the membrane, isotropic consolidation to sigma3, strain-
 // controlled shear to q_f (or 15 %), then multi-stage creep at q = S_k q_f in physical time.
-#include "engine/protocol/creep_hold.hpp"
 #include "engine/protocol/run_observer.hpp"
 #include "engine/protocol/test_result.hpp"
 #include "engine/protocol/test_scheme.hpp"
@@ -16,10 +15,6 @@ enum class Phase { Consolidation, Shear, Creep };
 // Runs the protocol up to and including `last`. Throws InputError on a bad scheme,
 // SimulationError if the DEM becomes unphysical. Never prints.
 TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& observer, Phase last = Phase::Creep);
-
-// The same with the creep holds' servo and reading options (benchmarks compare them).
-TestResult run_triaxial_test(const TestScheme& scheme, RunObserver& observer, Phase last,
-                             const HoldOptions& hold_options);
 
 // Convenience: no observer.
 TestResult run_triaxial_test(const TestScheme& scheme);

@@ -1,17 +1,29 @@
 // `triax run scheme.json --out DIR` / `triax run --group B --out DIR`: runs the whole
 // protocol headless, prints a progress line (stage, %, ETA) on stderr and writes
-// summary.json, result.json and one CSV per series into DIR.
+// summary.json, result.json, one CSV per series and the specimen at the end of each stage
+// (snapshots/<stage>.snap, the stored form of server/io/packing_codec.cpp) into DIR.
+// `--packing FILE` starts from an imported packing (docs/packings.md).
+// `triax export DIR --stage S --format F [--out FILE]` writes a stored snapshot of DIR in
+// format F (json, project, spheres, lammps, vtk).
+// `triax diagnose` and `triax ensemble` (scaleout_commands.cpp) run on threads or, under
+// mpirun, on MPI ranks.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "engine/core/types.hpp"
 #include "engine/protocol/paper_groups.hpp"
 #include "engine/protocol/triaxial_test.hpp"
+#include "server/io/bounded_json.hpp"
+#include "engine/protocol/imported_packing.hpp"
+#include "server/io/packing_formats.hpp"
+#include "server/cli/commands.hpp"
 #include "server/io/result_csv.hpp"
 #include "server/io/result_json.hpp"
 #include "server/io/scheme_json.hpp"
@@ -19,12 +31,26 @@
 namespace {
 
 const char* kUsage =
-    "usage: triax run <scheme.json> [--out DIR] [--threads N]\n"
+    "usage: triax run <scheme.json> [--out DIR] [--threads N] [--packing FILE [--units m|mm]]\n"
     "       triax run --group A|B|C|D|E [--out DIR] [--threads N] [--max-particles N]\n"
-    "       triax presets            (prints the paper groups as JSON)\n";
+    "       triax export <RUN_DIR> --stage generation|consolidation|shear|creep-K\n"
+    "                    --format json|project|spheres|lammps|vtk [--out FILE]\n"
+    "       triax presets            (prints the paper groups as JSON)\n"
+    "       triax diagnose --scheme SCHEME.json --dataset LAB_FILE [--format csv|gds|ags|json]\n"
+    "                      [--options OPTIONS.json] [--out REPORT.json]\n"
+    "       triax ensemble --scheme SCHEME.json --seeds 1-8 [--out DIR] [--concurrency N]\n"
+    "                      [--threads N] [--max-particles N]\n"
+    "       (diagnose and ensemble spread their runs over the ranks of `mpirun -np N triax ...`)\n";
 
 class StderrProgress : public triax::protocol::RunObserver {
 public:
+    explicit StderrProgress(std::filesystem::path snapshot_dir) : snapshot_dir_(std::move(snapshot_dir)) {}
+    void on_snapshot(const triax::protocol::SpecimenSnapshot& s) override {
+        std::filesystem::create_directories(snapshot_dir_);
+        const auto path = snapshot_dir_ / (s.stage + ".snap");
+        std::ofstream f(path, std::ios::binary);
+        if (!f || !(f << triax::io::encode_snapshot(s))) throw std::runtime_error("cannot write " + path.string());
+    }
     void progress(const std::string& stage, double fraction, double eta_s) override {
         const auto now = std::chrono::steady_clock::now();
         if (now - last_ < std::chrono::milliseconds(500) && fraction < 1.0) return;
@@ -41,6 +67,7 @@ public:
     }
 
 private:
+    std::filesystem::path snapshot_dir_;
     std::chrono::steady_clock::time_point last_{};
 };
 
@@ -51,7 +78,8 @@ void write_file(const std::filesystem::path& p, const std::string& text) {
 }
 
 int run(int argc, char** argv) {
-    std::string scheme_path, group, out = "triax-out";
+    std::string scheme_path, group, out = "triax-out", packing_path;
+    std::optional<std::string> units;
     int threads = 0, max_particles = -1;
     for (int i = 2; i < argc; ++i) {
         const std::string a = argv[i];
@@ -63,6 +91,8 @@ int run(int argc, char** argv) {
         else if (a == "--group") group = next("--group");
         else if (a == "--threads") threads = std::stoi(next("--threads"));
         else if (a == "--max-particles") max_particles = std::stoi(next("--max-particles"));
+        else if (a == "--packing") packing_path = next("--packing");
+        else if (a == "--units") units = next("--units");
         else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
         else scheme_path = a;
     }
@@ -72,25 +102,41 @@ int run(int argc, char** argv) {
     } else if (!scheme_path.empty()) {
         std::ifstream f(scheme_path);
         if (!f) throw std::invalid_argument("cannot open " + scheme_path);
+        const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
         nlohmann::json j;
         try {
-            j = nlohmann::json::parse(f);
-        } catch (const nlohmann::json::parse_error& e) {
-            throw std::invalid_argument(scheme_path + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+            j = triax::io::parse_bounded_json(text);
+        } catch (const triax::io::JsonLimitError& e) {
+            throw std::invalid_argument(scheme_path + ": " + (e.pointer.empty() ? "" : "field " + e.pointer + ": ") + e.what());
         }
         try {
             scheme = triax::io::scheme_from_json(j);
         } catch (const triax::io::SchemeError& e) {
             throw std::invalid_argument(scheme_path + ": field " + e.field + ": " + e.what());
         }
+        scheme = triax::cli::read_scheme_file(scheme_path);
     } else {
         throw std::invalid_argument("give a scheme file or --group");
     }
     if (threads > 0) scheme.threads = threads;
     if (max_particles >= 0) scheme.max_particles = max_particles;
+    if (!packing_path.empty()) {
+        std::ifstream f(packing_path, std::ios::binary);
+        if (!f) throw std::invalid_argument("cannot open " + packing_path);
+        std::stringstream text;
+        text << f.rdbuf();
+        try {
+            scheme.packing = std::make_shared<triax::protocol::ImportedPacking>(
+                triax::io::parse_packing(text.str(), packing_path, units));
+            triax::protocol::validate_packing(*scheme.packing, scheme);
+        } catch (const triax::io::PackingParseError& e) {
+            throw std::invalid_argument(e.what());
+        }
+    }
     std::filesystem::create_directories(out);
     write_file(std::filesystem::path(out) / "scheme.json", triax::io::scheme_to_json(scheme).dump(2));
-    StderrProgress obs;
+    std::filesystem::remove_all(std::filesystem::path(out) / "snapshots");
+    StderrProgress obs(std::filesystem::path(out) / "snapshots");
     const auto result = triax::protocol::run_triaxial_test(scheme, obs);
     std::fprintf(stderr, "\n");
     const auto summary = triax::io::result_summary_to_json(result);
@@ -102,6 +148,41 @@ int run(int argc, char** argv) {
     return result.cancelled ? 3 : 0;
 }
 
+int export_snapshot(int argc, char** argv) {
+    std::string dir, stage, format_name, out;
+    for (int i = 2; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto next = [&](const char* what) -> std::string {
+            if (i + 1 >= argc) throw std::invalid_argument(std::string(what) + " needs a value");
+            return argv[++i];
+        };
+        if (a == "--stage") stage = next("--stage");
+        else if (a == "--format") format_name = next("--format");
+        else if (a == "--out") out = next("--out");
+        else if (!a.empty() && a[0] == '-') throw std::invalid_argument("unknown option " + a);
+        else dir = a;
+    }
+    if (dir.empty() || stage.empty() || format_name.empty()) throw std::invalid_argument("export needs RUN_DIR, --stage and --format");
+    const auto format = triax::io::packing_format_from_name(format_name);
+    if (!format) throw std::invalid_argument("--format must be json, project, spheres, lammps or vtk; got '" + format_name + "'");
+    const auto path = std::filesystem::path(dir) / "snapshots" / (stage + ".snap");
+    std::ifstream f(path, std::ios::binary);
+    if (!f) {
+        std::string have;
+        if (std::filesystem::is_directory(path.parent_path()))
+            for (const auto& e : std::filesystem::directory_iterator(path.parent_path()))
+                if (e.path().extension() == ".snap") have += (have.empty() ? "" : ", ") + e.path().stem().string();
+        throw std::invalid_argument("no snapshot of stage '" + stage + "' in " + dir + " (recorded: " +
+                                    (have.empty() ? std::string("none") : have) + ")");
+    }
+    std::stringstream bytes;
+    bytes << f.rdbuf();
+    const auto text = triax::io::snapshot_to_text(triax::io::decode_snapshot(bytes.str()), *format);
+    if (out.empty()) std::cout << text;
+    else write_file(out, text);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -109,6 +190,9 @@ int main(int argc, char** argv) {
     const std::string cmd = argv[1];
     try {
         if (cmd == "run") return run(argc, argv);
+        if (cmd == "export") return export_snapshot(argc, argv);
+        if (cmd == "diagnose") return triax::cli::diagnose_command(argc, argv);
+        if (cmd == "ensemble") return triax::cli::ensemble_command(argc, argv);
         if (cmd == "presets") { std::cout << triax::io::presets_to_json().dump(2) << "\n"; return 0; }
         std::cerr << "unknown command '" << cmd << "'\n" << kUsage;
         return 2;

@@ -1,5 +1,8 @@
 #include "server/http/problem.hpp"
 
+#include "server/io/bounded_json.hpp"
+
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -55,13 +58,37 @@ std::size_t invalid_utf8_at(std::string_view s) {
 
 nlohmann::json parse_body(const httplib::Request& req) {
     if (req.body.empty()) throw bad_request("request body is empty; a JSON document is expected");
+    // application/json only (parameters such as charset allowed): a cross-site form or a
+    // fetch without preflight can send text/plain, never application/json.
+    const std::string type = req.get_header_value("Content-Type");
+    const std::string media = type.substr(0, type.find(';'));
+    std::string trimmed;
+    for (char c : media)
+        if (c != ' ' && c != '\t') trimmed += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (trimmed != "application/json")
+        throw ApiError(415, "Unsupported Media Type",
+                       "this endpoint takes a JSON body with Content-Type: application/json" +
+                           (type.empty() ? std::string() : ", got '" + type + "'"));
+
     try {
-        return nlohmann::json::parse(req.body);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw bad_request("request body is not valid JSON (byte " + std::to_string(e.byte) + "): " + e.what());
-    } catch (const nlohmann::json::exception& e) {  // e.g. a number beyond double (1e400)
-        throw bad_request(std::string("request body is not usable JSON: ") + e.what());
+        return io::parse_bounded_json(req.body);
+    } catch (const io::JsonLimitError& e) {
+        if (e.syntax) throw bad_request(std::string("request body is ") + e.what());
+        throw unprocessable(std::string("request body refused: ") + e.what()).at_field(e.pointer);
     }
+}
+
+std::int64_t body_integer(const nlohmann::json& v, const std::string& pointer, std::int64_t lo, std::int64_t hi) {
+    const std::string name = pointer.empty() ? std::string("the body") : pointer.substr(pointer.rfind('/') + 1);
+    const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    if (!v.is_number_integer()) throw unprocessable(name + " must be an integer in " + range).at_field(pointer);
+    const bool beyond = v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(hi);
+    const std::int64_t n = beyond ? hi : v.get<std::int64_t>();
+    if (beyond || n < lo || n > hi)
+        throw unprocessable(name + " = " + v.dump() + " is outside " + range)
+            .at_field(pointer)
+            .with_limit(std::to_string(lo) + " <= " + name + " <= " + std::to_string(hi));
+    return n;
 }
 
 std::int64_t path_id(const httplib::Request& req, std::size_t index) {

@@ -39,6 +39,9 @@ void send_json(httplib::Response& res, const nlohmann::json& body, int status = 
 std::size_t invalid_utf8_at(std::string_view s);
 // Parses a request body as JSON or throws 400 naming the byte offset.
 nlohmann::json parse_body(const httplib::Request& req);
+// An integer member of a request body in [lo, hi], or 422 naming `pointer`; an unsigned
+// value beyond int64 (2^63) is out of range, not wrapped to a negative number.
+std::int64_t body_integer(const nlohmann::json& v, const std::string& pointer, std::int64_t lo, std::int64_t hi);
 // Integer path parameter (matches[1] by default) or 404.
 std::int64_t path_id(const httplib::Request& req, std::size_t index = 1);
 // Optional query parameters with a clear 400 when malformed.

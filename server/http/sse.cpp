@@ -12,7 +12,8 @@ std::string format_sse(const StoredEvent& e) {
     return "id: " + std::to_string(e.seq) + "\nevent: " + e.type + "\ndata: " + e.data + "\n\n";
 }
 
-void serve_event_stream(const httplib::Request& req, httplib::Response& res, EventLog& log, std::int64_t owner) {
+void serve_event_stream(const httplib::Request& req, httplib::Response& res, EventLog& log, std::int64_t owner,
+                        StreamLimiter& limiter) {
     std::int64_t last = 0;
     std::string from = req.get_header_value("Last-Event-ID");
     if (from.empty() && req.has_param("last_event_id")) from = req.get_param_value("last_event_id");
@@ -21,15 +22,19 @@ void serve_event_stream(const httplib::Request& req, httplib::Response& res, Eve
         if (ec != std::errc() || p != from.data() + from.size() || last < 0)
             throw bad_request("Last-Event-ID must be a non-negative integer, got '" + from + "'");
     }
+    if (!limiter.try_acquire()) {
+        res.set_header("Retry-After", "5");
+        throw ApiError(503, "Service Unavailable",
+                       "too many open event streams (" + std::to_string(limiter.cap()) +
+                           "); close one or poll the status route")
+            .with_limit("event streams <= " + std::to_string(limiter.cap()));
+    }
     res.set_header("Cache-Control", "no-cache");
     res.set_header("X-Accel-Buffering", "no");
     auto quiet_since = std::make_shared<std::chrono::steady_clock::time_point>(std::chrono::steady_clock::now());
     res.set_chunked_content_provider(
         "text/event-stream", [&log, owner, last, quiet_since](size_t, httplib::DataSink& sink) mutable {
-            if (log.stopping()) {
-                sink.done();
-                return true;
-            }
+            const bool stopping = log.stopping();
             const auto events = log.since(owner, last, 256);
             for (const auto& e : events) {
                 const auto text = format_sse(e);
@@ -42,6 +47,10 @@ void serve_event_stream(const httplib::Request& req, httplib::Response& res, Eve
             }
             if (!events.empty()) {
                 *quiet_since = std::chrono::steady_clock::now();
+                return true;
+            }
+            if (stopping) {
+                sink.done();
                 return true;
             }
             // A client reconnecting after the terminal event (EventSource does so by
@@ -59,7 +68,8 @@ void serve_event_stream(const httplib::Request& req, httplib::Response& res, Eve
                 *quiet_since = std::chrono::steady_clock::now();
             }
             return true;
-        });
+        },
+        [&limiter](bool) { limiter.release(); });
 }
 
 }  // namespace triax::service

@@ -1,6 +1,8 @@
 // DiagnosisReport <-> JSON in lab units (see diagnosis_json.hpp).
 #include "server/io/diagnosis_json.hpp"
 
+#include <cmath>
+
 #include "server/io/diagnosis_verdict.hpp"
 
 namespace triax::io {
@@ -115,14 +117,15 @@ T bounded(const json& body, const char* key, T lo, T hi, T fallback) {
     const std::string pointer = std::string("/") + key;
     if (!v.is_number())
         throw DiagnosisRequestError(pointer, std::string(key) + " must be a number, got " + std::string(v.type_name()));
-    if constexpr (std::is_integral_v<T>) {
-        if (!v.is_number_integer() && !(v.is_number_float() && v.get<double>() == static_cast<double>(static_cast<long long>(v.get<double>()))))
-            throw DiagnosisRequestError(pointer, std::string(key) + " must be an integer");
-    }
+    // Range first (as a double, never cast out of range), then integrality.
     const double x = v.get<double>();
-    if (x < static_cast<double>(lo) || x > static_cast<double>(hi))
+    if (!(x >= static_cast<double>(lo) && x <= static_cast<double>(hi)))
         throw DiagnosisRequestError(pointer, std::string(key) + " must be between " + std::to_string(lo) + " and " +
                                                  std::to_string(hi) + ", got " + v.dump());
+    if constexpr (std::is_integral_v<T>) {
+        if (std::floor(x) != x) throw DiagnosisRequestError(pointer, std::string(key) + " must be an integer");
+        if (v.is_number_integer()) return v.get<T>();
+    }
     return static_cast<T>(x);
 }
 
@@ -205,6 +208,21 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
             {"verdict", diagnosis_verdict(r)}};
 }
 
+CandidateResult candidate_from_json(const json& c) {
+    CandidateResult cr;
+    cr.step = c.value("step", 1);
+    cr.effect = c.at("effect").get<std::string>();
+    cr.signature_score = c.value("signature_score", 0.0);
+    cr.fitted = c.value("fitted", false);
+    cr.parameters = parameters_from_json(c.value("parameters", json::array()));
+    cr.rss = c.value("rss", 0.0);
+    cr.nrmse = c.value("nrmse", 0.0);
+    cr.bic = c.value("bic", 0.0);
+    cr.delta_bic_vs_base = c.value("delta_bic_vs_base", 0.0);
+    cr.note = c.value("note", std::string{});
+    return cr;
+}
+
 DiagnosisReport diagnosis_report_from_json(const json& j) {
     DiagnosisReport r;
     const std::string outcome = j.value("outcome", std::string{"unexplained"});
@@ -223,20 +241,7 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
     r.delta_bic_vs_base = d.at("vs_base").get<double>();
     for (const auto& ru : d.value("runners_up", json::array()))
         r.runners_up.push_back({ru.at("effect").get<std::string>(), ru.at("delta_bic").get<double>()});
-    for (const auto& c : j.value("candidates", json::array())) {
-        CandidateResult cr;
-        cr.step = c.value("step", 1);
-        cr.effect = c.at("effect").get<std::string>();
-        cr.signature_score = c.value("signature_score", 0.0);
-        cr.fitted = c.value("fitted", false);
-        cr.parameters = parameters_from_json(c.value("parameters", json::array()));
-        cr.rss = c.value("rss", 0.0);
-        cr.nrmse = c.value("nrmse", 0.0);
-        cr.bic = c.value("bic", 0.0);
-        cr.delta_bic_vs_base = c.value("delta_bic_vs_base", 0.0);
-        cr.note = c.value("note", std::string{});
-        r.candidates.push_back(std::move(cr));
-    }
+    for (const auto& c : j.value("candidates", json::array())) r.candidates.push_back(candidate_from_json(c));
     for (const auto& s : j.value("steps", json::array()))
         r.steps.push_back({s.at("step").get<int>(), s.value("added", std::string{}), s.value("nrmse_before", 0.0),
                            s.value("nrmse_after", 0.0), s.value("delta_bic", 0.0), s.value("n_effective", 0.0)});

@@ -28,6 +28,8 @@ diagnose::DiagnosisReport diagnosis_report_from_json(const nlohmann::json& j);
 
 // The `candidate` SSE event payload.
 nlohmann::json candidate_to_json(const diagnose::CandidateResult& candidate);
+// ... and read back (the `triax diagnose` child's candidate lines, mpi_job_launcher).
+diagnose::CandidateResult candidate_from_json(const nlohmann::json& j);
 
 // Optional fields: budget_runs (4..400), refine_runs (1..100), max_candidates (1..6),
 // max_effects (1..6), concurrency (1..64), threads_per_run (1..64), max_particles

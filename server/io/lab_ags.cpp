@@ -40,10 +40,14 @@ diagnose::LabDataset parse_lab_ags(std::string_view text) {
         if (tag == "GROUP") {
             if (r.fields.size() < 2 || r.fields[1].empty()) throw LabParseError("GROUP without a name", r.line, 1);
             current = r.fields[1];
+            // A group read twice would take the second HEADING for the first one's rows.
+            if (groups.count(current)) throw LabParseError("group " + current + " appears twice", r.line, 1);
             groups[current];
         } else if (current.empty()) {
             throw LabParseError("'" + tag + "' row before any GROUP row", r.line, 1);
         } else if (tag == "HEADING") {
+            if (!groups[current].headings.empty())
+                throw LabParseError("group " + current + " has a second HEADING row", r.line, 1);
             groups[current].headings = r.fields;
             groups[current].heading_line = r.line;
         } else if (tag == "UNIT") {
@@ -94,6 +98,20 @@ diagnose::LabDataset parse_lab_ags(std::string_view text) {
         row.strain_at_failure = value(tret, "TRET", *r, "TRET_STRN");
         row.moisture_content = value(tret, "TRET", *r, "TRET_IMC");
         row.dry_density_kg_m3 = value(tret, "TRET", *r, "TRET_DDEN");
+        // The same physical ranges as the CSV and JSON readers (a negative cell pressure is
+        // refused there too).
+        auto require_at = [&](bool ok, const char* name, const std::string& why) {
+            if (ok) return;
+            const auto c = column(tret, name);
+            throw LabParseError(std::string(name) + ": " + why, r->line, c ? r->columns[*c] : 1);
+        };
+        require_at(row.confining_pa >= 0.0, "TRET_CELL", "the cell pressure must be >= 0");
+        require_at(row.strain_at_failure >= 0.0 && row.strain_at_failure <= 1.0, "TRET_STRN",
+                   "the strain at failure must be in [0, 100] %");
+        require_at(row.moisture_content >= 0.0 && row.moisture_content <= 5.0, "TRET_IMC",
+                   "the moisture content must be in [0, 500] %");
+        require_at(row.dry_density_kg_m3 >= 0.0 && row.dry_density_kg_m3 <= 5000.0, "TRET_DDEN",
+                   "the dry density must be in [0, 5] Mg/m3");
         if (groups.count("TREG")) {
             const auto& treg = groups["TREG"];
             for (const auto* g : treg.data) {

@@ -1,8 +1,12 @@
 #include "server/io/lab_format.hpp"
 #include "server/io/lab_table.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <map>
+#include <string_view>
 
 namespace triax::io {
 
@@ -32,6 +36,16 @@ std::optional<LabColumn> lab_column(const std::string& raw) {
         {"deviator_kPa", {LabQuantity::Deviator, 1e3}},
         {"volumetric_strain_pct", {LabQuantity::VolumetricStrain, 0.01}},
         {"volumetric_strain_frac", {LabQuantity::VolumetricStrain, 1.0}},
+        // Common spellings of lab exports.
+        {"vol_strain_pct", {LabQuantity::VolumetricStrain, 0.01}},
+        {"vol_strain_frac", {LabQuantity::VolumetricStrain, 1.0}},
+        {"volume_strain_pct", {LabQuantity::VolumetricStrain, 0.01}},
+        {"deviator_MPa", {LabQuantity::Deviator, 1e6}},
+        {"deviator_stress_kPa", {LabQuantity::Deviator, 1e3}},
+        {"cell_pressure_kPa", {LabQuantity::Confining, 1e3}},
+        {"sigma3_MPa", {LabQuantity::Confining, 1e6}},
+        {"axial_displacement_mm", {LabQuantity::AxialDeformation, 1e-3}},
+        {"time_hr", {LabQuantity::Time, 3600.0}},
     };
     auto it = table.find(name);
     if (it == table.end()) return std::nullopt;
@@ -95,14 +109,20 @@ void LabCurveCollector::add(CurveKind kind, int stage, double confining_pa, doub
 
 std::vector<diagnose::LabCurve> LabCurveCollector::finish() { return std::move(curves_); }
 
-std::optional<double> finite_number(const std::string& s) {
-    try {
-        std::size_t used = 0;
-        const double v = std::stod(s, &used);
-        if (used == s.size() && std::isfinite(v)) return v;
-    } catch (const std::exception&) {  // not a number, or beyond double
-    }
-    return std::nullopt;
+std::optional<double> finite_number(const std::string& raw) {
+    // Decimal notation only: std::stod would also read "0x10" (16), "inf" and "nan".
+    std::size_t b = raw.find_first_not_of(" \t"), e = raw.find_last_not_of(" \t");
+    if (b == std::string::npos) return std::nullopt;
+    std::string_view s(raw.data() + b, e - b + 1);
+    if (s.front() == '+') s.remove_prefix(1);
+    if (s.empty() || s.front() == '+') return std::nullopt;
+    for (char c : s)
+        if (!(std::isdigit(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == 'e' || c == 'E' || c == '+'))
+            return std::nullopt;
+    double v = 0.0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v, std::chars_format::general);
+    if (ec != std::errc() || end != s.data() + s.size() || !std::isfinite(v)) return std::nullopt;
+    return v;
 }
 
 namespace {
@@ -114,78 +134,181 @@ double parse_number(const std::string& s, const LabCellOrigin& o, const std::str
 
 }  // namespace
 
-diagnose::LabDataset parse_lab_csv(std::string_view text) {
-    const auto records = read_csv_records(text);
+namespace {
+
+// The field separator of the header line: ',' unless the line has none and has ';' or a
+// tab (spreadsheet exports in locales with a decimal comma use ';').
+char detect_separator(std::string_view text) {
+    const auto nl = text.find('\n');
+    const auto first = text.substr(0, nl);
+    if (first.find(',') != std::string_view::npos) return ',';
+    if (first.find(';') != std::string_view::npos) return ';';
+    if (first.find('\t') != std::string_view::npos) return '\t';
+    return ',';
+}
+
+struct CsvRow {
+    int line = 0;
+    bool kind_given = false;
+    CurveKind kind = CurveKind::Shear;
+    int stage = 0;
+    double confining = 0.0, stress_level = 0.0;
+    std::vector<std::pair<LabQuantity, LabCurveCollector::Cell>> cells;
+};
+
+// A stage of readings without a kind column: a creep stage holds q (>= 80 % of readings
+// within 5 % of the median, median > 1 kPa; the rule of the GDS reader), a shear stage
+// ramps it (its range is at least half of its largest value). Anything else is ambiguous.
+enum class StageShape { Holds, Ramps, Ambiguous };
+StageShape stage_shape(const std::vector<double>& q_kpa) {
+    if (q_kpa.size() < 3) return StageShape::Ambiguous;
+    std::vector<double> sorted = q_kpa;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[sorted.size() / 2];
+    const double lo = sorted.front(), hi = sorted.back();
+    std::size_t near = 0;
+    for (double v : q_kpa) near += std::abs(v - median) <= 0.05 * std::abs(median) ? 1 : 0;
+    const bool holds = median > 1.0 && near >= 0.8 * static_cast<double>(q_kpa.size());
+    const bool ramps = hi - lo >= 0.5 * std::max(std::abs(lo), std::abs(hi)) && hi - lo > 1.0;
+    if (holds && !ramps) return StageShape::Holds;
+    if (ramps && !holds) return StageShape::Ramps;
+    return StageShape::Ambiguous;
+}
+
+}  // namespace
+
+diagnose::LabDataset parse_lab_csv(std::string_view text, std::vector<std::string>* notes) {
+    const char sep = detect_separator(text);
+    const auto records = read_csv_records(text, sep);
     if (records.empty()) throw LabParseError("the file is empty", 1, 1);
     const auto& header = records.front();
+    if (notes && sep != ',')
+        notes->push_back(std::string("fields separated by '") + (sep == '\t' ? "\\t" : ";") +
+                         "' (detected from the header line)" + (sep == ';' ? "; a decimal comma is read as a point" : ""));
     std::vector<LabColumn> cols;
-    bool has_kind = false, has_confining = false;
+    bool has_kind = false, has_confining = false, has_stage = false, has_q = false;
     for (std::size_t c = 0; c < header.fields.size(); ++c) {
         auto col = lab_column(header.fields[c]);
-        if (!col)
+        if (!col) {
+            std::string hint;
+            for (char d : {';', '\t', '|'})
+                if (header.fields[c].find(d) != std::string::npos)
+                    hint = std::string(" - the header holds '") + (d == '\t' ? "\\t" : std::string(1, d)) +
+                           "': are the fields separated by it? Use ',' (or ';' or tab throughout the file)";
             throw LabParseError("unknown column '" + header.fields[c] +
                                     "' (expected names with units such as q_kPa, time_min, axial_strain_pct, "
-                                    "axial_deformation_mm, volumetric_strain_pct, confining_kPa, kind, stage)",
+                                    "axial_deformation_mm, volumetric_strain_pct, confining_kPa, kind, stage)" + hint,
                                 header.line, header.columns[c]);
+        }
         for (const auto& prev : cols)
             if (prev.quantity == col->quantity && col->quantity != LabQuantity::Kind)
                 throw LabParseError("column '" + header.fields[c] + "' repeats a quantity", header.line,
                                     header.columns[c]);
         has_kind = has_kind || col->quantity == LabQuantity::Kind;
         has_confining = has_confining || col->quantity == LabQuantity::Confining;
+        has_stage = has_stage || col->quantity == LabQuantity::Stage;
+        has_q = has_q || col->quantity == LabQuantity::Deviator;
         cols.push_back(*col);
     }
     if (!has_confining) throw LabParseError("a confining pressure column (confining_kPa) is required", header.line, 1);
 
-    LabCurveCollector collector;
+    // With ';' between fields the numbers may use a decimal comma.
+    auto number = [&](const std::string& f, const LabCellOrigin& o, const std::string& name) {
+        if (sep == ';' && f.find(',') != std::string::npos && f.find('.') == std::string::npos) {
+            std::string dotted = f;
+            std::replace(dotted.begin(), dotted.end(), ',', '.');
+            return parse_number(dotted, o, name);
+        }
+        return parse_number(f, o, name);
+    };
+
+    std::vector<CsvRow> rows;
     for (std::size_t r = 1; r < records.size(); ++r) {
         const auto& rec = records[r];
         if (rec.fields.size() != cols.size())
             throw LabParseError("expected " + std::to_string(cols.size()) + " fields, found " +
                                     std::to_string(rec.fields.size()),
                                 rec.line, rec.columns.back());
-        CurveKind kind = CurveKind::Shear;
-        bool kind_given = false;
-        int stage = 0;
-        double confining = 0.0, stress_level = 0.0;
-        std::vector<std::pair<LabQuantity, LabCurveCollector::Cell>> cells;
+        CsvRow row;
+        row.line = rec.line;
         for (std::size_t c = 0; c < cols.size(); ++c) {
             const LabCellOrigin o{rec.line, rec.columns[c], {}};
             const auto& f = rec.fields[c];
             switch (cols[c].quantity) {
                 case LabQuantity::Kind:
-                    if (f == "shear") kind = CurveKind::Shear;
-                    else if (f == "creep") kind = CurveKind::Creep;
+                    if (f == "shear") row.kind = CurveKind::Shear;
+                    else if (f == "creep") row.kind = CurveKind::Creep;
                     else throw_at(o, "kind must be 'shear' or 'creep', got '" + f + "'");
-                    kind_given = true;
+                    row.kind_given = true;
                     break;
                 case LabQuantity::Stage: {
-                    const double v = f.empty() ? 0.0 : parse_number(f, o, header.fields[c]);
-                    if (v < 0 || v > 1000 || v != std::floor(v)) throw_at(o, "stage must be an integer in [0, 1000]");
-                    stage = static_cast<int>(v);
+                    const double v = f.empty() ? 0.0 : number(f, o, header.fields[c]);
+                    if (v < 0 || v > static_cast<double>(kMaxStage) || v != std::floor(v))
+                        throw_at(o, "stage must be an integer in [0, " + std::to_string(kMaxStage) + "]");
+                    row.stage = static_cast<int>(v);
                     break;
                 }
                 case LabQuantity::Confining:
                     if (f.empty()) throw_at(o, "the confining pressure is required on every reading");
-                    confining = parse_number(f, o, header.fields[c]) * cols[c].to_si;
-                    if (confining <= 0) throw_at(o, "the confining pressure must be > 0");
+                    row.confining = number(f, o, header.fields[c]) * cols[c].to_si;
+                    if (!(row.confining > 0) || !std::isfinite(row.confining))
+                        throw_at(o, "the confining pressure must be > 0");
                     break;
                 case LabQuantity::StressLevel:
-                    if (!f.empty()) stress_level = parse_number(f, o, header.fields[c]);
+                    if (!f.empty()) row.stress_level = number(f, o, header.fields[c]);
                     break;
                 default:
-                    cells.push_back({cols[c].quantity,
-                                     {f.empty() ? std::nullopt
-                                                : std::optional<double>(parse_number(f, o, header.fields[c]) *
-                                                                        cols[c].to_si),
-                                      o}});
+                    row.cells.push_back({cols[c].quantity,
+                                         {f.empty() ? std::nullopt
+                                                    : std::optional<double>(number(f, o, header.fields[c]) *
+                                                                            cols[c].to_si),
+                                          o}});
             }
         }
-        if (!kind_given) kind = stage > 0 ? CurveKind::Creep : CurveKind::Shear;
+        rows.push_back(std::move(row));
+    }
+
+    // No kind column: stage 0 is shear; a numbered stage is read from its q readings,
+    // since lab exports number every stage, shear included.
+    if (!has_kind && has_stage) {
+        std::map<std::pair<int, double>, std::vector<std::size_t>> groups;
+        for (std::size_t i = 0; i < rows.size(); ++i)
+            if (rows[i].stage > 0) groups[{rows[i].stage, rows[i].confining}].push_back(i);
+        for (const auto& [key, members] : groups) {
+            const std::string which = "stage " + std::to_string(key.first) + " at " +
+                                      std::to_string(static_cast<long long>(std::lround(key.second * 1e-3))) + " kPa";
+            const LabCellOrigin first{rows[members.front()].line, 1, {}};
+            if (!has_q)
+                throw_at(first, which + ": without a kind column the kind is read from q, and there is no q column; "
+                                        "add a kind column (shear or creep)");
+            std::vector<double> q;
+            for (auto i : members)
+                for (const auto& [quantity, cell] : rows[i].cells)
+                    if (quantity == LabQuantity::Deviator && cell.value) q.push_back(*cell.value * 1e-3);
+            const StageShape shape = stage_shape(q);
+            if (shape == StageShape::Ambiguous)
+                throw_at(first, which + ": cannot tell shear from creep (q neither holds within 5 % nor ramps); "
+                                        "add a kind column (shear or creep)");
+            const CurveKind kind = shape == StageShape::Holds ? CurveKind::Creep : CurveKind::Shear;
+            for (auto i : members) rows[i].kind = kind;
+            if (notes)
+                notes->push_back(which + ": read as " + (kind == CurveKind::Creep ? "creep (q held)" : "shear (q ramps)") +
+                                 " - no kind column");
+        }
+        // Numbered shear stages are ordinary shear curves.
+        for (auto& row : rows)
+            if (row.stage > 0) row.kind_given = true;
+    }
+
+    LabCurveCollector collector;
+    for (auto& row : rows) {
+        CurveKind kind = row.kind;
+        int stage = row.stage;
+        if (!row.kind_given) kind = CurveKind::Shear;
         if (kind == CurveKind::Creep && stage < 1)
-            throw_at({rec.line, rec.columns.front(), {}}, "a creep reading needs a stage number >= 1");
+            throw_at({row.line, 1, {}}, "a creep reading needs a stage number >= 1");
         if (kind == CurveKind::Shear) stage = 0;
-        collector.add(kind, stage, confining, stress_level, cells, {rec.line, 1, {}});
+        collector.add(kind, stage, row.confining, row.stress_level, row.cells, {row.line, 1, {}});
     }
     diagnose::LabDataset d;
     d.curves = collector.finish();

@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace triax::io {
 
@@ -33,16 +34,23 @@ struct LabParseError : std::runtime_error {
 
 enum class LabFormat { Csv, Gds, Ags, Json };
 
+// Limits shared by every format: names (dataset, specimen) and stage numbers.
+inline constexpr std::size_t kMaxNameBytes = 200;
+inline constexpr long long kMaxStage = 1000;
+
 std::optional<LabFormat> lab_format_from_name(std::string_view name);  // "csv","gds","ags","json"
 std::string lab_format_name(LabFormat f);
 // Guesses the format from the content (JSON brace, AGS "GROUP" line, GDS column names).
 LabFormat sniff_lab_format(std::string_view text);
 
-diagnose::LabDataset parse_lab_csv(std::string_view text);
+// `notes` (optional) receives what the reader inferred (separator, the kind of a stage
+// read from its q readings) so the answer can say so.
+diagnose::LabDataset parse_lab_csv(std::string_view text, std::vector<std::string>* notes = nullptr);
 diagnose::LabDataset parse_lab_gds(std::string_view text);
 diagnose::LabDataset parse_lab_ags(std::string_view text);
 diagnose::LabDataset parse_lab_json(const nlohmann::json& doc);
-diagnose::LabDataset parse_lab_dataset(std::string_view text, LabFormat format);
+diagnose::LabDataset parse_lab_dataset(std::string_view text, LabFormat format,
+                                       std::vector<std::string>* notes = nullptr);
 
 // The dataset in lab units, in the JSON upload form (parse_lab_json reads it back).
 nlohmann::json lab_dataset_to_json(const diagnose::LabDataset& d);

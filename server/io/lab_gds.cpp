@@ -81,6 +81,8 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
         }
     }
     if (h == records.size()) throw LabParseError("no header row with a 'Stage Number' column was found", 1, 1);
+    if (height_mm < 0 || height_mm > 1.0e4 || diameter_mm < 0 || diameter_mm > 1.0e4)
+        throw LabParseError("the specimen height and diameter must be in (0, 10000] mm", 1, 1);
     const auto& header = records[h];
     std::map<std::string, std::size_t> idx;
     for (std::size_t c = 0; c < header.fields.size(); ++c) idx[normalise(header.fields[c])] = c;
@@ -120,18 +122,40 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
                                     std::to_string(rec.fields.size()),
                                 rec.line, rec.columns.back());
         auto num = [&](std::optional<std::size_t> c) { return number_in(rec, *c, header.fields[*c]); };
+        // Physical ranges, each refused at its cell (a logger writes none of these).
+        auto in_range = [&](std::optional<std::size_t> c, double lo, double hi, const std::string& why) {
+            const double v = num(c);
+            if (!(v >= lo && v <= hi))
+                throw LabParseError("column '" + header.fields[*c] + "': " + why, rec.line, rec.columns[*c]);
+            return v;
+        };
         Reading x{};
         x.rec = &rec;
-        x.stage = static_cast<int>(num(c_stage));
-        x.t_s = num(c_time ? c_time : c_test_time);
-        x.q_kpa = num(c_q);
+        const double stage = in_range(c_stage, 0.0, static_cast<double>(kMaxStage),
+                                      "the stage number must be an integer in [0, " + std::to_string(kMaxStage) + "]");
+        if (stage != std::floor(stage))
+            throw LabParseError("column '" + header.fields[*c_stage] + "': the stage number must be an integer", rec.line,
+                                rec.columns[*c_stage]);
+        x.stage = static_cast<int>(stage);
+        const auto c_t = c_time ? c_time : c_test_time;
+        x.t_s = in_range(c_t, 0.0, 1.0e9, "the time must be in [0, 1e9] s");
+        x.q_kpa = in_range(c_q, -1.0e6, 1.0e6, "the deviator stress must be within +-1e6 kPa");
         x.has_disp = c_disp.has_value();
         x.has_strain = c_strain.has_value() || height_mm > 0;
-        if (c_disp) x.disp_mm = num(c_disp);
-        x.strain = c_strain ? num(c_strain) / 100.0 : x.disp_mm / height_mm;
+        if (c_disp) x.disp_mm = in_range(c_disp, -1.0e4, 1.0e4, "the axial displacement must be within +-10 m");
+        x.strain = c_strain ? in_range(c_strain, -100.0, 100.0, "the axial strain must be within +-100 %") / 100.0
+                            : x.disp_mm / height_mm;
+        // Within a stage the clock runs forward; a new stage may restart it.
+        if (!rows.empty() && rows.back().stage == x.stage && x.t_s < rows.back().t_s)
+            throw LabParseError("column '" + header.fields[*c_t] + "': the time runs backwards within stage " +
+                                    std::to_string(x.stage) + " (" + std::to_string(rows.back().t_s) + " s on line " +
+                                    std::to_string(rows.back().rec->line) + ")",
+                                rec.line, rec.columns[*c_t]);
         x.has_dvol = c_dvol && height_mm > 0 && diameter_mm > 0;
         if (x.has_dvol) x.dvol_mm3 = num(c_dvol);
-        x.confining_kpa = c_eff_radial ? num(c_eff_radial) : num(c_radial) - (c_back ? num(c_back) : 0.0);
+        x.confining_kpa = c_eff_radial ? in_range(c_eff_radial, -1.0e6, 1.0e6, "must be within +-1e6 kPa")
+                                       : in_range(c_radial, -1.0e6, 1.0e6, "must be within +-1e6 kPa") -
+                                             (c_back ? in_range(c_back, -1.0e6, 1.0e6, "must be within +-1e6 kPa") : 0.0);
         rows.push_back(x);
     }
     if (rows.empty()) throw LabParseError("the header is not followed by readings", header.line, 1);

@@ -1,4 +1,5 @@
 #include "server/io/lab_format.hpp"
+#include "server/io/bounded_json.hpp"
 #include "server/io/lab_table.hpp"
 
 #include <cmath>
@@ -36,16 +37,17 @@ LabFormat sniff_lab_format(std::string_view text) {
     return LabFormat::Csv;
 }
 
-diagnose::LabDataset parse_lab_dataset(std::string_view text, LabFormat format) {
+diagnose::LabDataset parse_lab_dataset(std::string_view text, LabFormat format, std::vector<std::string>* notes) {
     switch (format) {
-        case LabFormat::Csv: return parse_lab_csv(text);
+        case LabFormat::Csv: return parse_lab_csv(text, notes);
         case LabFormat::Gds: return parse_lab_gds(text);
         case LabFormat::Ags: return parse_lab_ags(text);
         case LabFormat::Json: {
             json doc;
             try {
-                doc = json::parse(text);
-            } catch (const json::parse_error& e) {
+                doc = parse_bounded_json(text);
+            } catch (const JsonLimitError& e) {
+                if (!e.syntax) throw LabParseError(e.what(), e.pointer.empty() ? std::string("/") : e.pointer);
                 // Report the line/column of the byte nlohmann stopped at.
                 int line = 1, col = 1;
                 for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
@@ -70,7 +72,9 @@ double number_at(const json& v, const std::string& ptr) {
 
 double optional_number(const json& obj, const char* key, const std::string& ptr, double scale) {
     if (!obj.contains(key) || obj[key].is_null()) return 0.0;
-    return number_at(obj[key], ptr + "/" + key) * scale;
+    const double v = number_at(obj[key], ptr + "/" + key) * scale;
+    if (!std::isfinite(v)) throw LabParseError("beyond the range of a reading", ptr + "/" + key);
+    return v;
 }
 
 }  // namespace
@@ -81,6 +85,8 @@ diagnose::LabDataset parse_lab_json(const json& doc) {
     if (doc.contains("name")) {
         if (!doc["name"].is_string()) throw LabParseError("must be a string", "/name");
         d.name = doc["name"].get<std::string>();
+        if (d.name.size() > kMaxNameBytes)
+            throw LabParseError("must be at most " + std::to_string(kMaxNameBytes) + " bytes", "/name");
     }
     LabCurveCollector collector;
     const json curves = doc.value("curves", json::array());
@@ -89,13 +95,15 @@ diagnose::LabDataset parse_lab_json(const json& doc) {
         const auto cptr = "/curves/" + std::to_string(i);
         const auto& c = curves[i];
         if (!c.is_object()) throw LabParseError("a curve must be an object", cptr);
-        const auto kind_s = c.value("kind", std::string());
+        const auto kind_s = c.contains("kind") && c["kind"].is_string() ? c["kind"].get<std::string>() : std::string();
         if (kind_s != "shear" && kind_s != "creep") throw LabParseError("kind must be 'shear' or 'creep'", cptr + "/kind");
         const auto kind = kind_s == "creep" ? CurveKind::Creep : CurveKind::Shear;
         int stage = 0;
         if (kind == CurveKind::Creep) {
-            if (!c.contains("stage") || !c["stage"].is_number_integer() || c["stage"].get<int>() < 1)
-                throw LabParseError("a creep curve needs an integer stage >= 1", cptr + "/stage");
+            if (!c.contains("stage") || !c["stage"].is_number_integer() || c["stage"].get<long long>() < 1 ||
+                c["stage"].get<long long>() > kMaxStage)
+                throw LabParseError("a creep curve needs an integer stage in [1, " + std::to_string(kMaxStage) + "]",
+                                    cptr + "/stage");
             stage = c["stage"].get<int>();
         }
         if (!c.contains("confining_kPa")) throw LabParseError("required field 'confining_kPa' is missing", cptr + "/confining_kPa");
@@ -127,7 +135,14 @@ diagnose::LabDataset parse_lab_json(const json& doc) {
                 const auto p = rptr + "/" + std::to_string(k);
                 LabCurveCollector::Cell cell;
                 cell.origin.pointer = p;
-                if (!row[k].is_null()) cell.value = number_at(row[k], p) * cols[k].to_si;
+                // Every declared column is measured in every row: a null would make the
+                // collector read the column as "not measured" and drop it from the curve.
+                if (row[k].is_null())
+                    throw LabParseError("null reading: every column in 'columns' needs a number in every row "
+                                        "(leave a column out of 'columns' when it was not measured)",
+                                        p);
+                cell.value = number_at(row[k], p) * cols[k].to_si;
+                if (!std::isfinite(*cell.value)) throw LabParseError("beyond the range of a reading", p);
                 cells.push_back({cols[k].quantity, cell});
             }
             LabCellOrigin o;
@@ -143,7 +158,10 @@ diagnose::LabDataset parse_lab_json(const json& doc) {
         const auto& s = summary[i];
         if (!s.is_object()) throw LabParseError("a summary row must be an object", p);
         diagnose::LabSummaryRow row;
+        if (s.contains("specimen") && !s["specimen"].is_string()) throw LabParseError("must be a string", p + "/specimen");
         row.specimen = s.value("specimen", std::string());
+        if (row.specimen.size() > kMaxNameBytes)
+            throw LabParseError("must be at most " + std::to_string(kMaxNameBytes) + " bytes", p + "/specimen");
         row.confining_pa = optional_number(s, "confining_kPa", p, 1e3);
         row.deviator_at_failure_pa = optional_number(s, "deviator_at_failure_kPa", p, 1e3);
         row.strain_at_failure = optional_number(s, "strain_at_failure_pct", p, 0.01);

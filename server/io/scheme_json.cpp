@@ -1,6 +1,7 @@
 #include "server/io/scheme_json.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <vector>
@@ -13,6 +14,11 @@ using nlohmann::json;
 using protocol::TestScheme;
 
 namespace {
+
+// Length limits of a scheme document: a name is a label, a stress-level list or sieve
+// curve a few dozen entries in any lab practice.
+constexpr std::size_t kMaxSchemeNameBytes = 200;
+constexpr std::size_t kMaxSchemeArray = 100;
 
 // One numeric field: where it lives in JSON, its SI name in TestScheme (as used in
 // TestScheme::validate messages) and the factor lab -> SI.
@@ -50,7 +56,6 @@ const std::vector<NumberField>& number_fields() {
         {"micro", "bond_normal_strength_kPa", "micro.bond_normal_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_normal_strength_pa; }, 1e3},
         {"micro", "bond_shear_strength_kPa", "micro.bond_shear_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_shear_strength_pa; }, 1e3},
         {"micro", "bond_friction", "micro.bond_friction", [](TestScheme& s) -> double& { return s.micro.bond_friction; }, 1.0},
-        {"micro", "bond_load_ratio", "micro.bond_load_ratio", [](TestScheme& s) -> double& { return s.micro.bond_load_ratio; }, 1.0},
         {"micro", "bond_rolling_friction", "micro.bond_rolling_friction", [](TestScheme& s) -> double& { return s.micro.bond_rolling_friction; }, 1.0},
         {"micro", "membrane_particle_radius_mm", "micro.membrane_particle_radius_m", [](TestScheme& s) -> double& { return s.micro.membrane_particle_radius_m; }, 1e-3},
         {"micro", "membrane_stiffness_N_m", "micro.membrane_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.membrane_stiffness_n_m; }, 1.0},
@@ -59,28 +64,16 @@ const std::vector<NumberField>& number_fields() {
         {"micro", "crushing_reference_diameter_mm", "micro.crushing_reference_diameter_m", [](TestScheme& s) -> double& { return s.micro.crushing_reference_diameter_m; }, 1e-3},
         {"micro", "crushing_weibull_modulus", "micro.crushing_weibull_modulus", [](TestScheme& s) -> double& { return s.micro.crushing_weibull_modulus; }, 1.0},
         {"micro", "crushing_hardening_ratio", "micro.crushing_hardening_ratio", [](TestScheme& s) -> double& { return s.micro.crushing_hardening_ratio; }, 1.0},
-        {"micro", "crushing_residual_ratio", "micro.crushing_residual_ratio", [](TestScheme& s) -> double& { return s.micro.crushing_residual_ratio; }, 1.0},
-        {"micro", "crushing_friction_loss", "micro.crushing_friction_loss", [](TestScheme& s) -> double& { return s.micro.crushing_friction_loss; }, 1.0},
         {"creep", "slip_rate_a_m_s", "creep.slip_rate_a_m_s", [](TestScheme& s) -> double& { return s.creep.slip_rate_a_m_s; }, 1.0},
         {"creep", "slip_beta", "creep.slip_beta", [](TestScheme& s) -> double& { return s.creep.slip_beta; }, 1.0},
-        {"creep", "slip_capacity_um", "creep.slip_hardening_length_m", [](TestScheme& s) -> double& { return s.creep.slip_hardening_length_m; }, 1e-6},
+        {"creep", "slip_hardening_length_um", "creep.slip_hardening_length_m", [](TestScheme& s) -> double& { return s.creep.slip_hardening_length_m; }, 1e-6},
         {"creep", "capacity_offset", "creep.capacity_offset", [](TestScheme& s) -> double& { return s.creep.capacity_offset; }, 1.0},
         {"creep", "aging_margin", "creep.aging_margin", [](TestScheme& s) -> double& { return s.creep.aging_margin; }, 1.0},
-        {"creep", "critical_mobilisation", "creep.critical_mobilisation", [](TestScheme& s) -> double& { return s.creep.critical_mobilisation; }, 1.0},
-        {"creep", "flow_rate_scale", "creep.flow_rate_scale", [](TestScheme& s) -> double& { return s.creep.flow_rate_scale; }, 1.0},
         {"creep", "wear_length_um", "creep.wear_length_m", [](TestScheme& s) -> double& { return s.creep.wear_length_m; }, 1e-6},
         {"creep", "wear_max", "creep.wear_max", [](TestScheme& s) -> double& { return s.creep.wear_max; }, 1.0},
-        {"creep", "flow_wear_length_um", "creep.flow_wear_length_m", [](TestScheme& s) -> double& { return s.creep.flow_wear_length_m; }, 1e-6},
-        {"creep", "slow_slip_wear_max", "creep.slow_slip_wear_max", [](TestScheme& s) -> double& { return s.creep.slow_slip_wear_max; }, 1.0},
-        {"creep", "slow_slip_wear_length_um", "creep.slow_slip_wear_length_m", [](TestScheme& s) -> double& { return s.creep.slow_slip_wear_length_m; }, 1e-6},
-        {"creep", "damage_rate_b1_per_s", "creep.damage_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.damage_rate_b1_per_s; }, 1.0},
-        {"creep", "damage_b2", "creep.damage_b2", [](TestScheme& s) -> double& { return s.creep.damage_b2; }, 1.0},
-        {"creep", "damage_threshold", "creep.damage_threshold", [](TestScheme& s) -> double& { return s.creep.damage_threshold; }, 1.0},
-        {"creep", "corroded_bond_friction_loss", "creep.corroded_bond_friction_loss", [](TestScheme& s) -> double& { return s.creep.corroded_bond_friction_loss; }, 1.0},
-        {"creep", "grain_fatigue_time_s", "creep.grain_fatigue_time_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_time_s; }, 1.0},
-        {"creep", "grain_fatigue_exponent", "creep.grain_fatigue_exponent", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_exponent; }, 1.0},
-        {"creep", "grain_fatigue_ratio_cap", "creep.grain_fatigue_ratio_cap", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_ratio_cap; }, 1.0},
-        {"creep", "grain_fatigue_instant_life_s", "creep.grain_fatigue_instant_life_s", [](TestScheme& s) -> double& { return s.creep.grain_fatigue_instant_life_s; }, 1.0},
+        {"creep", "bond_corrosion_rate_b1_per_s", "creep.bond_corrosion_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_rate_b1_per_s; }, 1.0},
+        {"creep", "bond_corrosion_b2", "creep.bond_corrosion_b2", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_b2; }, 1.0},
+        {"creep", "bond_corrosion_threshold", "creep.bond_corrosion_threshold", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_threshold; }, 1.0},
         {"creep", "first_increment_s", "creep.first_increment_s", [](TestScheme& s) -> double& { return s.creep.first_increment_s; }, 1.0},
         {"creep", "increment_growth", "creep.increment_growth", [](TestScheme& s) -> double& { return s.creep.increment_growth; }, 1.0},
         {"creep", "max_increment_s", "creep.max_increment_s", [](TestScheme& s) -> double& { return s.creep.max_increment_s; }, 1.0},
@@ -93,7 +86,7 @@ const std::vector<NumberField>& number_fields() {
         {"loading", "consolidation_tolerance", "loading.consolidation_tolerance", [](TestScheme& s) -> double& { return s.loading.consolidation_tolerance; }, 1.0},
         {"loading", "max_inertial_number", "loading.max_inertial_number", [](TestScheme& s) -> double& { return s.loading.max_inertial_number; }, 1.0},
         {"effects", "rolling_friction", "effects.rolling_friction", [](TestScheme& s) -> double& { return s.effects.rolling_friction; }, 1.0},
-        {"effects", "breakage_damage_scale", "effects.breakage_damage_scale", [](TestScheme& s) -> double& { return s.effects.breakage_damage_scale; }, 1.0},
+        {"effects", "bond_corrosion_scale", "effects.bond_corrosion_scale", [](TestScheme& s) -> double& { return s.effects.bond_corrosion_scale; }, 1.0},
         {"effects", "viscosity_scale", "effects.viscosity_scale", [](TestScheme& s) -> double& { return s.effects.viscosity_scale; }, 1.0},
         {"effects", "seating_displacement_mm", "effects.seating_displacement_m", [](TestScheme& s) -> double& { return s.effects.seating_displacement_m; }, 1e-3},
         {"effects", "membrane_modulus_kPa", "effects.membrane_modulus_pa", [](TestScheme& s) -> double& { return s.effects.membrane_modulus_pa; }, 1e3},
@@ -105,14 +98,13 @@ const std::vector<NumberField>& number_fields() {
 const std::vector<BoolField>& bool_fields() {
     static const std::vector<BoolField> f = {
         {"effects", "rolling_resistance", [](TestScheme& s) -> bool& { return s.effects.rolling_resistance; }},
-        {"effects", "grain_breakage", [](TestScheme& s) -> bool& { return s.effects.grain_breakage; }},
+        {"effects", "accelerated_bond_corrosion", [](TestScheme& s) -> bool& { return s.effects.accelerated_bond_corrosion; }},
         {"effects", "contact_creep_viscosity", [](TestScheme& s) -> bool& { return s.effects.contact_creep_viscosity; }},
         {"effects", "moisture_bonding", [](TestScheme& s) -> bool& { return s.effects.moisture_bonding; }},
         {"effects", "seating_error", [](TestScheme& s) -> bool& { return s.effects.seating_error; }},
         {"effects", "membrane_compliance", [](TestScheme& s) -> bool& { return s.effects.membrane_compliance; }},
         {"micro", "crushing_breaks_bond", [](TestScheme& s) -> bool& { return s.micro.crushing_breaks_bond; }},
         {"loading", "stop_at_softening", [](TestScheme& s) -> bool& { return s.loading.stop_at_softening; }},
-        {"creep", "grain_fatigue_strength_spread", [](TestScheme& s) -> bool& { return s.creep.grain_fatigue_strength_spread; }},
     };
     return f;
 }
@@ -126,11 +118,30 @@ double number_at(const json& v, const std::string& pointer) {
     return d;
 }
 
+// A lab value converted to SI; 1e308 MPa is a finite JSON number but not a finite pascal.
+double si_number_at(const json& v, const std::string& pointer, double to_si) {
+    const double si = to_si * number_at(v, pointer);
+    if (!std::isfinite(si)) throw SchemeError(pointer, "beyond the range of this field (not finite in SI units)");
+    return si;
+}
+
 std::vector<double> number_array(const json& v, const std::string& pointer, double to_si) {
     if (!v.is_array()) throw SchemeError(pointer, "must be an array of numbers");
+    if (v.size() > kMaxSchemeArray)
+        throw SchemeError(pointer, "at most " + std::to_string(kMaxSchemeArray) + " entries");
     std::vector<double> out;
-    for (std::size_t i = 0; i < v.size(); ++i) out.push_back(to_si * number_at(v[i], pointer + "/" + std::to_string(i)));
+    for (std::size_t i = 0; i < v.size(); ++i) out.push_back(si_number_at(v[i], pointer + "/" + std::to_string(i), to_si));
     return out;
+}
+
+// An integer field read whole: 2^63 must not wrap to a negative int.
+long long integer_at(const json& v, const std::string& pointer, long long lo, long long hi) {
+    const std::string range = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    if (!v.is_number_integer()) throw SchemeError(pointer, "must be an integer in " + range);
+    const bool too_big = v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi);
+    const long long n = too_big ? hi : v.get<long long>();
+    if (too_big || n < lo || n > hi) throw SchemeError(pointer, "must be an integer in " + range + ", got " + v.dump());
+    return n;
 }
 
 // Maps a TestScheme::validate dotted name ("loading.stress_levels[2]") to a JSON pointer.
@@ -195,17 +206,17 @@ TestScheme scheme_from_json(const json& j) {
     if (j.contains("name")) {
         if (!j["name"].is_string()) throw SchemeError("/name", "must be a string");
         s.name = j["name"].get<std::string>();
+        if (s.name.size() > kMaxSchemeNameBytes)
+            throw SchemeError("/name", "must be at most " + std::to_string(kMaxSchemeNameBytes) + " bytes");
     }
     if (j.contains("seed")) {
         if (!j["seed"].is_number_integer() || j["seed"].get<long long>() < 0)
             throw SchemeError("/seed", "must be a non-negative integer");
         s.seed = j["seed"].get<std::uint64_t>();
     }
-    for (const char* key : {"threads", "max_particles"}) {
-        if (!j.contains(key)) continue;
-        if (!j[key].is_number_integer()) throw SchemeError(std::string("/") + key, "must be an integer");
-        (std::string(key) == "threads" ? s.threads : s.max_particles) = j[key].get<int>();
-    }
+    if (j.contains("threads")) s.threads = static_cast<int>(integer_at(j["threads"], "/threads", 1, 256));
+    if (j.contains("max_particles"))
+        s.max_particles = static_cast<int>(integer_at(j["max_particles"], "/max_particles", 0, 100'000'000));
     // Unknown keys inside sections.
     for (const auto& sec : sections) {
         if (!j.contains(sec)) continue;
@@ -215,14 +226,13 @@ TestScheme scheme_from_json(const json& j) {
             for (const auto& f : number_fields()) known = known || (sec == f.section && k == f.key);
             for (const auto& f : bool_fields()) known = known || (sec == f.section && k == f.key);
             known = known || (sec == "gradation" && (k == "kind" || k == "sieve_curve")) ||
-                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition")) ||
-                    (sec == "creep" && k == "grain_fatigue_drive");
+                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition"));
             if (!known) throw SchemeError(ptr(sec, k), "unknown field");
         }
     }
     for (const auto& f : number_fields()) {
         if (!j.contains(f.section) || !j[f.section].contains(f.key)) continue;
-        f.ref(s) = f.to_si * number_at(j[f.section][f.key], ptr(f.section, f.key));
+        f.ref(s) = si_number_at(j[f.section][f.key], ptr(f.section, f.key), f.to_si);
     }
     for (const auto& f : bool_fields()) {
         if (!j.contains(f.section) || !j[f.section].contains(f.key)) continue;
@@ -243,6 +253,8 @@ TestScheme scheme_from_json(const json& j) {
         if (g.contains("sieve_curve")) {
             const auto& c = g["sieve_curve"];
             if (!c.is_array()) throw SchemeError("/gradation/sieve_curve", "must be an array of {size_mm, passing_pct}");
+            if (c.size() > kMaxSchemeArray)
+                throw SchemeError("/gradation/sieve_curve", "at most " + std::to_string(kMaxSchemeArray) + " points");
             for (std::size_t i = 0; i < c.size(); ++i) {
                 const std::string p = "/gradation/sieve_curve/" + std::to_string(i);
                 if (!c[i].is_object() || !c[i].contains("size_mm") || !c[i].contains("passing_pct"))
@@ -267,13 +279,6 @@ TestScheme scheme_from_json(const json& j) {
             else if (d == "eq1") s.loading.stress_level_definition = protocol::StressLevelDefinition::PaperEq1;
             else throw SchemeError("/loading/stress_level_definition", "must be \"q_over_qf\" or \"eq1\"");
         }
-    }
-    if (j.contains("creep") && j["creep"].contains("grain_fatigue_drive")) {
-        const auto& d = j["creep"]["grain_fatigue_drive"];
-        if (d == "capped_peak_force") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::CappedPeakForce;
-        else if (d == "peak_force") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::PeakForce;
-        else if (d == "grain_stress") s.creep.grain_fatigue_drive = protocol::GrainFatigueDrive::GrainStress;
-        else throw SchemeError("/creep/grain_fatigue_drive", "must be \"capped_peak_force\", \"peak_force\" or \"grain_stress\"");
     }
     try {
         s.validate();
@@ -303,9 +308,6 @@ json scheme_to_json(const TestScheme& s0) {
     j["loading"]["stage_durations_min"] = d;
     j["loading"]["stress_level_definition"] =
         s.loading.stress_level_definition == protocol::StressLevelDefinition::PaperEq1 ? "eq1" : "q_over_qf";
-    j["creep"]["grain_fatigue_drive"] = s.creep.grain_fatigue_drive == protocol::GrainFatigueDrive::GrainStress ? "grain_stress"
-                                        : s.creep.grain_fatigue_drive == protocol::GrainFatigueDrive::PeakForce ? "peak_force"
-                                                                                                               : "capped_peak_force";
     return j;
 }
 

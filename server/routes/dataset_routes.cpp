@@ -14,26 +14,50 @@ using nlohmann::json;
 
 namespace {
 
+// The stored part of a listing entry (datasets.header_json): curve index and summary rows.
+json header_columns(const diagnose::LabDataset& d) {
+    return {{"curves", io::lab_curve_index(d)}, {"summary", io::lab_dataset_to_json(d)["summary"]}};
+}
+
 json dataset_header(std::int64_t id, const std::string& name, const std::string& format, const std::string& created,
-                    const diagnose::LabDataset& d) {
+                    const json& header) {
     return {{"id", id},
             {"name", name},
             {"format", format},
             {"created_at", created},
-            {"curves", io::lab_curve_index(d)},
-            {"summary", io::lab_dataset_to_json(d)["summary"]}};
+            {"curves", header.value("curves", json::array())},
+            {"summary", header.value("summary", json::array())}};
 }
 
 }  // namespace
 
 diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name) {
-    return s.db.with([&](Database& db) {
+    // The text is read under the database lock, parsed outside it.
+    const std::string text = s.db.with([&](Database& db) {
         auto st = db.prepare("SELECT name, dataset_json FROM datasets WHERE id = ?");
         st.bind_all(id);
         if (!st.step()) throw not_found("dataset " + std::to_string(id) + " does not exist");
         if (name) *name = st.text(0);
-        return io::parse_lab_json(json::parse(st.text(1)));
+        return st.text(1);
     });
+    return io::parse_lab_json(json::parse(text));
+}
+
+int backfill_dataset_headers(Service& s) {
+    std::vector<std::int64_t> ids;
+    s.db.with([&](Database& db) {
+        auto st = db.prepare("SELECT id FROM datasets WHERE header_json IS NULL");
+        while (st.step()) ids.push_back(st.int64(0));
+    });
+    for (const auto id : ids) {
+        const json header = header_columns(load_dataset(s, id, nullptr));
+        s.db.transaction([&](Database& db) {
+            auto up = db.prepare("UPDATE datasets SET header_json = ? WHERE id = ?");
+            up.bind_all(header.dump(), id);
+            up.run();
+        });
+    }
+    return static_cast<int>(ids.size());
 }
 
 void register_dataset_routes(Service& s) {
@@ -59,8 +83,9 @@ void register_dataset_routes(Service& s) {
             format = io::sniff_lab_format(req.body);
         }
         diagnose::LabDataset d;
+        std::vector<std::string> notes;
         try {
-            d = io::parse_lab_dataset(req.body, format);
+            d = io::parse_lab_dataset(req.body, format, &notes);
         } catch (const io::LabParseError& e) {
             auto err = unprocessable(std::string(io::lab_format_name(format)) + " upload: " + e.what());
             if (e.line > 0) err.at(e.line, e.column);
@@ -83,36 +108,46 @@ void register_dataset_routes(Service& s) {
         d.name = name;
         const auto created = utc_now();
         const auto fmt = io::lab_format_name(format);
+        const json header = header_columns(d);
+        const std::string stored = io::lab_dataset_to_json(d).dump();
         const auto id = s.db.transaction([&](Database& db) {
-            auto ins = db.prepare("INSERT INTO datasets(name, format, dataset_json, created_at) VALUES (?, ?, ?, ?)");
-            ins.bind_all(name, fmt, io::lab_dataset_to_json(d).dump(), created);
+            auto ins = db.prepare(
+                "INSERT INTO datasets(name, format, dataset_json, header_json, created_at) VALUES (?, ?, ?, ?, ?)");
+            ins.bind_all(name, fmt, stored, header.dump(), created);
             ins.run();
             return db.last_insert_id();
         });
         res.set_header("Location", "/datasets/" + std::to_string(id));
-        send_json(res, dataset_header(id, name, fmt, created, d), 201);
+        auto out = dataset_header(id, name, fmt, created, header);
+        out["notes"] = notes;  // what the reader inferred (kind of a stage, separator)
+        send_json(res, out, 201);
     });
     s.route("GET", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto page = page_request(req);
         send_json(res, s.db.with([&](Database& db) {
-            return read_page(db, page, "datasets", "SELECT id, name, format, created_at, dataset_json FROM datasets", "id",
+            // The small header column only: no dataset is parsed under the lock.
+            return read_page(db, page, "datasets", "SELECT id, name, format, created_at, header_json FROM datasets", "id",
                              [](Statement& st) {
-                                 const auto d = io::parse_lab_json(json::parse(st.text(4)));
-                                 return dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), d);
+                                 const json header = st.is_null(4) ? json::object() : json::parse(st.text(4));
+                                 return dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), header);
                              });
         }));
     });
     s.route("GET", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);
-        json out = s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, name, format, created_at, dataset_json FROM datasets WHERE id = ?");
+        std::string name, format, created, text;
+        s.db.with([&](Database& db) {
+            auto st = db.prepare("SELECT name, format, created_at, dataset_json FROM datasets WHERE id = ?");
             st.bind_all(id);
             if (!st.step()) throw not_found("dataset " + std::to_string(id) + " does not exist");
-            const auto doc = json::parse(st.text(4));
-            auto h = dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), io::parse_lab_json(doc));
-            h["data"] = doc;
-            return h;
+            name = st.text(0);
+            format = st.text(1);
+            created = st.text(2);
+            text = st.text(3);
         });
+        const auto doc = json::parse(text);  // outside the lock
+        auto out = dataset_header(id, name, format, created, header_columns(io::parse_lab_json(doc)));
+        out["data"] = doc;
         send_json(res, out);
     });
     s.route("DELETE", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {

@@ -1,8 +1,13 @@
 // POST /runs, GET /runs, GET /runs/{id}, POST /runs/{id}/cancel, POST /runs/{id}/rerun,
 // GET /runs/{id}/events (SSE).
+// Eigen before httplib: <resolv.h> (through httplib) defines a macro _res that Eigen uses as a name.
+#include "engine/protocol/imported_packing.hpp"
+#include "server/io/scheme_json.hpp"
 #include "server/http/problem.hpp"
 #include "server/http/sse.hpp"
 #include "server/service.hpp"
+
+#include <cstdint>
 
 namespace triax::service {
 
@@ -13,31 +18,41 @@ void register_run_routes(Service& s) {
         const auto body = parse_body(req);
         if (!body.is_object()) throw unprocessable("the body must be an object with 'scheme' or 'scheme_id'").at_field("");
         for (const auto& [k, v] : body.items())
-            if (k != "scheme" && k != "scheme_id" && k != "threads")
-                throw unprocessable("unknown field '" + k + "' (scheme, scheme_id, threads)").at_field("/" + k);
+            if (k != "scheme" && k != "scheme_id" && k != "threads" && k != "packing_id")
+                throw unprocessable("unknown field '" + k + "' (scheme, scheme_id, threads, packing_id)").at_field("/" + k);
         const bool inline_scheme = body.contains("scheme"), by_id = body.contains("scheme_id");
         if (inline_scheme == by_id) throw unprocessable("give exactly one of 'scheme' or 'scheme_id'").at_field("/scheme");
         std::optional<int> threads;
         if (body.contains("threads")) {
-            if (!body["threads"].is_number_integer())
-                throw unprocessable("threads must be an integer").at_field("/threads");
-            const auto t = body["threads"].get<long long>();
-            if (t < 1 || t > s.config.max_threads_per_run)
-                throw unprocessable("threads = " + std::to_string(t) + " is outside [1, " +
-                                    std::to_string(s.config.max_threads_per_run) + "]")
-                    .at_field("/threads")
-                    .with_limit("1 <= threads <= " + std::to_string(s.config.max_threads_per_run));
-            threads = static_cast<int>(t);
+            threads = static_cast<int>(body_integer(body["threads"], "/threads", 1, s.config.max_threads_per_run));
         }
         std::int64_t scheme_id = 0;
         if (by_id) {
-            if (!body["scheme_id"].is_number_integer() || body["scheme_id"].get<long long>() < 1)
-                throw unprocessable("scheme_id must be a positive integer").at_field("/scheme_id");
-            scheme_id = body["scheme_id"].get<std::int64_t>();
+            scheme_id = body_integer(body["scheme_id"], "/scheme_id", 1, INT64_MAX);
         } else {
             scheme_id = store_scheme(s, body["scheme"], "/scheme")["id"].get<std::int64_t>();
         }
-        auto out = s.runs.submit(scheme_id, threads);
+        std::optional<std::int64_t> packing_id;
+        if (body.contains("packing_id")) {
+            if (!body["packing_id"].is_number_integer() || body["packing_id"].get<long long>() < 1)
+                throw unprocessable("packing_id must be a positive integer").at_field("/packing_id");
+            packing_id = body["packing_id"].get<std::int64_t>();
+            // The grains must fit this scheme's specimen: refused here, naming the grain's line.
+            auto packing = load_packing(s, *packing_id);
+            const std::string scheme_text = s.db.with([&](Database& db) {
+                auto st = db.prepare("SELECT scheme_json FROM schemes WHERE id = ?");
+                st.bind_all(scheme_id);
+                if (!st.step()) throw not_found("scheme " + std::to_string(scheme_id) + " does not exist").at_field("/scheme_id");
+                return st.text(0);
+            });
+            try {
+                protocol::validate_packing(packing, io::scheme_from_json(json::parse(scheme_text)));
+            } catch (const InputError& e) {
+                throw unprocessable(e.what()).at_field("/packing_id");
+            }
+        }
+        auto out = s.runs.submit(scheme_id, threads, std::nullopt, packing_id);
+        if (packing_id) out["packing_id"] = *packing_id;
         out["scheme_id"] = scheme_id;
         res.set_header("Location", "/runs/" + std::to_string(out["id"].get<std::int64_t>()));
         send_json(res, out, 202);
@@ -61,7 +76,7 @@ void register_run_routes(Service& s) {
     s.route("GET", R"(/runs/([^/]+)/events)", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);
         if (!s.runs.exists(id)) throw not_found("run " + std::to_string(id) + " does not exist");
-        serve_event_stream(req, res, s.run_events, id);
+        serve_event_stream(req, res, s.run_events, id, s.event_streams);
     });
 }
 

@@ -33,7 +33,7 @@ double estimated_particle_count(const protocol::TestScheme& sc) {
 
 }  // namespace
 
-json store_scheme(Service& s, const json& scheme, const std::string& prefix) {
+protocol::TestScheme validated_scheme(Service& s, const json& scheme, const std::string& prefix) {
     if (!scheme.is_object()) throw unprocessable("a scheme must be a JSON object").at_field(prefix.empty() ? "" : prefix);
     if (s.scheme_schema) {
         const auto errors = s.scheme_schema->validate(scheme);
@@ -65,6 +65,11 @@ json store_scheme(Service& s, const json& scheme, const std::string& prefix) {
                             " (set max_particles or a coarser gradation)")
             .at_field(prefix + "/max_particles")
             .with_limit("particle_count <= " + std::to_string(s.config.max_particles));
+    return parsed;
+}
+
+json store_scheme(Service& s, const json& scheme, const std::string& prefix) {
+    const protocol::TestScheme parsed = validated_scheme(s, scheme, prefix);
     const json normalised = io::scheme_to_json(parsed);
     const std::string name = normalised.value("name", std::string("custom"));
     const auto id = s.db.transaction([&](Database& db) {

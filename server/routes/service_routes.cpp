@@ -1,9 +1,45 @@
-// GET /health, /openapi.json, /presets, /schema/scheme, and the web page (/, /static/...).
+// GET /health, /openapi.json, /presets, /schema/scheme, /vendor/{file} (the page's npm
+// packages), and the web page (/, /static/...).
 #include "server/http/problem.hpp"
 #include "server/io/scheme_json.hpp"
 #include "server/service.hpp"
 
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
 namespace triax::service {
+
+namespace {
+
+struct VendorFile {
+    const char* name;      // as requested under /vendor/
+    const char* path;      // under web/node_modules/
+    const char* mime;
+};
+
+// The only files of web/node_modules the page loads (web/package.json installs them).
+// A whitelist, not a mount: node_modules holds much more than the page needs.
+constexpr VendorFile kVendorFiles[] = {
+    {"uPlot.esm.js", "uplot/dist/uPlot.esm.js", "text/javascript"},
+    {"uPlot.min.css", "uplot/dist/uPlot.min.css", "text/css"},
+    {"three.module.js", "three/build/three.module.js", "text/javascript"},
+    {"three.core.js", "three/build/three.core.js", "text/javascript"},
+    {"OrbitControls.js", "three/examples/jsm/controls/OrbitControls.js", "text/javascript"},
+};
+
+}  // namespace
+
+bool is_private_web_path(const std::string& path) {
+    // The npm install tree and its manifests are served only through /vendor/.
+    for (std::string_view hidden : {"/node_modules", "/package.json", "/package-lock.json"}) {
+        for (std::string_view prefix : {"", "/static"}) {
+            const std::string p = std::string(prefix) + std::string(hidden);
+            if (path.compare(0, p.size(), p) == 0) return true;
+        }
+    }
+    return false;
+}
 
 void register_service_routes(Service& s) {
     s.route("GET", "/health", [&s](const httplib::Request&, httplib::Response& res) {
@@ -24,8 +60,26 @@ void register_service_routes(Service& s) {
         res.status = 200;
         res.set_content(s.scheme_schema->schema().dump(), "application/schema+json");
     });
+    s.route("GET", R"(/vendor/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
+        const std::string name = req.matches[1];
+        for (const auto& f : kVendorFiles) {
+            if (name != f.name) continue;
+            const auto file = s.config.web_dir / "node_modules" / f.path;
+            std::ifstream in(file, std::ios::binary);
+            if (!in)
+                throw not_found("vendor file " + name + " is not installed (" + file.string() +
+                                "); run scripts/install-deps.sh (npm install in web/)");
+            std::ostringstream body;
+            body << in.rdbuf();
+            res.status = 200;
+            res.set_header("Cache-Control", "max-age=3600");
+            res.set_content(body.str(), f.mime);
+            return;
+        }
+        throw not_found("no vendor file named " + name);
+    });
     // Static files take precedence over GET routes in cpp-httplib; the web directory holds
-    // no file named like an API path.
+    // no file named like an API path, and is_private_web_path hides its npm tree.
     s.http.set_mount_point("/static", s.config.web_dir.string());
     s.http.set_mount_point("/", s.config.web_dir.string());
 }

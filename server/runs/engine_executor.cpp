@@ -3,6 +3,7 @@
 
 #include "engine/protocol/run_observer.hpp"
 #include "engine/protocol/triaxial_test.hpp"
+#include "server/io/packing_formats.hpp"
 #include "server/io/result_json.hpp"
 #include "server/io/scheme_json.hpp"
 
@@ -38,6 +39,9 @@ public:
         ctx_.emit("progress", d);
     }
     void stage_changed(const std::string& stage, int index, double stress_level, double q_target_pa) override {
+        // The engine closes a cancelled run with "done" too; the run keeps the stage it
+        // stopped in.
+        if (stage == "done" && ctx_.cancel_requested()) return;
         json d{{"stage", stage}, {"index", index}};
         if (index > 0) {
             d["stress_level"] = stress_level;
@@ -50,6 +54,9 @@ public:
     void energy_sample(const protocol::EnergySample& e) override { ctx_.emit("energy", io::energy_sample_to_json(e)); }
     void measurement_sample(const protocol::MeasurementSample& m) override {
         ctx_.emit("measurement", io::measurement_sample_to_json(m));
+    }
+    void on_snapshot(const protocol::SpecimenSnapshot& s) override {
+        if (ctx_.store_snapshot) ctx_.store_snapshot(io::snapshot_counts_json(s), io::encode_snapshot(s));
     }
     bool cancel_requested() override { return ctx_.cancel_requested(); }
 
@@ -79,6 +86,8 @@ RunExecutor make_engine_executor() {
     return [](const json& scheme_json, RunContext& ctx) -> json {
         auto scheme = io::scheme_from_json(scheme_json);
         scheme.threads = ctx.threads;
+        if (!ctx.packing.is_null())
+            scheme.packing = std::make_shared<protocol::ImportedPacking>(io::packing_from_project_json(ctx.packing, "packing"));
         StreamingObserver observer(ctx);
         const auto result = protocol::run_triaxial_test(scheme, observer);
         if (result.cancelled) throw RunCancelled();

@@ -19,6 +19,12 @@ struct RunContext {
     std::function<bool()> cancel_requested;
     // Streams one event (types and fields of docs/api.md, lab units); cheap to call.
     std::function<void(const std::string& type, const nlohmann::json& data)> emit;
+    // Keeps the specimen at the end of a stage: its counts ({"stage", "grains",
+    // "membrane_particles", "contacts"}) and its stored form (io::encode_snapshot).
+    std::function<void(const nlohmann::json& counts, const std::string& bytes)> store_snapshot;
+    // The packing the run starts from (project JSON, SI; docs/packings.md), null when the
+    // specimen is generated.
+    nlohmann::json packing;
 };
 
 // Thrown by an executor that stopped because cancel_requested() became true.

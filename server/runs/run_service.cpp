@@ -45,7 +45,8 @@ int RunService::recover_interrupted() {
     return static_cast<int>(ids.size());
 }
 
-json RunService::submit(std::int64_t scheme_id, std::optional<int> threads, std::optional<std::int64_t> rerun_of) {
+json RunService::submit(std::int64_t scheme_id, std::optional<int> threads, std::optional<std::int64_t> rerun_of,
+                        std::optional<std::int64_t> packing_id) {
     const int n_threads = threads.value_or(default_threads_);
     if (n_threads < 1 || n_threads > max_threads_)
         throw unprocessable("threads = " + std::to_string(n_threads) + " is outside [1, " + std::to_string(max_threads_) +
@@ -56,9 +57,14 @@ json RunService::submit(std::int64_t scheme_id, std::optional<int> threads, std:
         auto name = db.prepare("SELECT name FROM schemes WHERE id = ?");
         name.bind_all(scheme_id);
         if (!name.step()) throw not_found("scheme " + std::to_string(scheme_id) + " does not exist").at_field("/scheme_id");
+        if (packing_id) {
+            auto pk = db.prepare("SELECT 1 FROM packings WHERE id = ?");
+            pk.bind_all(*packing_id);
+            if (!pk.step()) throw not_found("packing " + std::to_string(*packing_id) + " does not exist").at_field("/packing_id");
+        }
         auto ins = db.prepare(
-            "INSERT INTO runs(scheme_id, name, status, threads, rerun_of, created_at) VALUES (?, ?, 'queued', ?, ?, ?)");
-        ins.bind_all(scheme_id, name.text(0), n_threads, rerun_of, utc_now());
+            "INSERT INTO runs(scheme_id, name, status, threads, rerun_of, created_at, packing_id) VALUES (?, ?, 'queued', ?, ?, ?, ?)");
+        ins.bind_all(scheme_id, name.text(0), n_threads, rerun_of, utc_now(), packing_id);
         ins.run();
         const auto run_id = db.last_insert_id();
         events_.append_in(db, run_id, "status", {{"status", "queued"}});
@@ -105,7 +111,13 @@ json RunService::rerun(std::int64_t id) {
     const auto st = status(id);
     const std::string s = st["status"];
     if (!terminal(s)) throw conflict("run " + std::to_string(id) + " is " + s + "; only a finished run can be re-run");
-    return submit(st["scheme_id"].get<std::int64_t>(), st["threads"].get<int>(), id);
+    const auto packing_id = db_.with([&](Database& db) {
+        auto q = db.prepare("SELECT packing_id FROM runs WHERE id = ?");
+        q.bind_all(id);
+        q.step();
+        return q.is_null(0) ? std::optional<std::int64_t>() : std::optional<std::int64_t>(q.int64(0));
+    });
+    return submit(st["scheme_id"].get<std::int64_t>(), st["threads"].get<int>(), id, packing_id);
 }
 
 json RunService::status(std::int64_t id) {
@@ -148,6 +160,30 @@ std::vector<json> RunService::event_data(std::int64_t id, const std::string& typ
     });
 }
 
+json RunService::snapshots(std::int64_t id) {
+    return db_.with([&](Database& db) {
+        json items = json::array();
+        auto st = db.prepare(
+            "SELECT stage, grains, membrane_particles, contacts FROM run_snapshots WHERE run_id = ? ORDER BY seq");
+        st.bind_all(id);
+        while (st.step())
+            items.push_back({{"stage", st.text(0)},
+                             {"grains", st.int64(1)},
+                             {"membrane_particles", st.int64(2)},
+                             {"contacts", st.int64(3)}});
+        return items;
+    });
+}
+
+std::optional<std::string> RunService::snapshot_bytes(std::int64_t id, const std::string& stage) {
+    return db_.with([&](Database& db) -> std::optional<std::string> {
+        auto st = db.prepare("SELECT data FROM run_snapshots WHERE run_id = ? AND stage = ?");
+        st.bind_all(id, stage);
+        if (!st.step()) return std::nullopt;
+        return st.blob(0);
+    });
+}
+
 void RunService::finish(std::int64_t id, const std::string& status, const std::string& detail) {
     db_.transaction([&](Database& db) {
         auto up = db.prepare(
@@ -165,18 +201,21 @@ void RunService::finish(std::int64_t id, const std::string& status, const std::s
 }
 
 void RunService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel) {
-    json scheme;
+    json scheme, packing;
     int threads = 1;
     const bool started = db_.transaction([&](Database& db) {
         auto up = db.prepare("UPDATE runs SET status = 'running', started_at = ? WHERE id = ? AND status = 'queued'");
         up.bind_all(utc_now(), id);
         up.run();
         if (db.changes() == 0) return false;
-        auto q = db.prepare("SELECT s.scheme_json, r.threads FROM runs r JOIN schemes s ON s.id = r.scheme_id WHERE r.id = ?");
+        auto q = db.prepare(
+            "SELECT s.scheme_json, r.threads, p.packing_json FROM runs r JOIN schemes s ON s.id = r.scheme_id "
+            "LEFT JOIN packings p ON p.id = r.packing_id WHERE r.id = ?");
         q.bind_all(id);
         q.step();
         scheme = json::parse(q.text(0));
         threads = static_cast<int>(q.int64(1));
+        if (!q.is_null(2)) packing = json::parse(q.text(2));
         events_.append_in(db, id, "status", {{"status", "running"}});
         return true;
     });
@@ -190,6 +229,18 @@ void RunService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> can
     RunContext ctx;
     ctx.run_id = id;
     ctx.threads = threads;
+    ctx.packing = std::move(packing);
+    ctx.store_snapshot = [this, id](const json& counts, const std::string& bytes) {
+        db_.transaction([&](Database& db) {
+            auto ins = db.prepare(
+                "INSERT OR REPLACE INTO run_snapshots(run_id, stage, seq, grains, membrane_particles, contacts, data) "
+                "VALUES (?, ?, (SELECT COUNT(*) FROM run_snapshots WHERE run_id = ?), ?, ?, ?, ?)");
+            ins.bind_all(id, counts.at("stage").get<std::string>(), id, counts.at("grains").get<std::int64_t>(),
+                         counts.at("membrane_particles").get<std::int64_t>(), counts.at("contacts").get<std::int64_t>(),
+                         Blob{bytes});
+            ins.run();
+        });
+    };
     ctx.cancel_requested = [cancel] { return cancel->load(); };
     ctx.emit = [this, id](const std::string& type, const json& data) {
         if (type == "progress" || type == "stage") {

@@ -28,7 +28,9 @@ public:
 
     // Inserts a queued run and enqueues it. ApiError 429 when the queue is full, 422 for a
     // thread count outside [1, max_threads].
-    nlohmann::json submit(std::int64_t scheme_id, std::optional<int> threads, std::optional<std::int64_t> rerun_of = {});
+    // packing_id: the stored packing the run starts from (404 if unknown); a re-run keeps it.
+    nlohmann::json submit(std::int64_t scheme_id, std::optional<int> threads, std::optional<std::int64_t> rerun_of = {},
+                          std::optional<std::int64_t> packing_id = {});
     void cancel(std::int64_t id);
     nlohmann::json rerun(std::int64_t id);
 
@@ -39,6 +41,10 @@ public:
     std::optional<nlohmann::json> result(std::int64_t id);
     // Data of every event of `type`, in order (partial series while running).
     std::vector<nlohmann::json> event_data(std::int64_t id, const std::string& type);
+    // The stored snapshots of a run, in stage order: [{"stage","grains","membrane_particles","contacts"}].
+    nlohmann::json snapshots(std::int64_t id);
+    // One snapshot's stored form (io::decode_snapshot), if recorded.
+    std::optional<std::string> snapshot_bytes(std::int64_t id, const std::string& stage);
 
     // Graceful stop: running runs are asked to stop and recorded as "interrupted".
     void begin_shutdown();

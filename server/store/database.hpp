@@ -25,7 +25,12 @@ struct StoreError : std::runtime_error {
     StoreError(const std::string& what, int c) : std::runtime_error(what), code(c) {}
 };
 
-using SqlValue = std::variant<std::nullptr_t, std::int64_t, double, std::string>;
+// Bytes stored as a BLOB (a std::string binds as TEXT).
+struct Blob {
+    std::string bytes;
+};
+
+using SqlValue = std::variant<std::nullptr_t, std::int64_t, double, std::string, Blob>;
 
 class Statement {
 public:
@@ -49,6 +54,7 @@ public:
     std::int64_t int64(int col) const;
     double real(int col) const;
     std::string text(int col) const;
+    std::string blob(int col) const;
     bool is_null(int col) const;
 
 private:
@@ -60,6 +66,7 @@ private:
     static SqlValue to_value(const std::string& v) { return v; }
     static SqlValue to_value(const char* v) { return std::string(v); }
     static SqlValue to_value(std::string_view v) { return std::string(v); }
+    static SqlValue to_value(const Blob& v) { return v; }
     template <class T> static SqlValue to_value(const std::optional<T>& v) {
         return v ? to_value(*v) : SqlValue{nullptr};
     }

@@ -112,7 +112,8 @@ TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear da
     const TestScheme s1 = shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {0.75}}}}, 200e3);
     CHECK(s1.micro.crushing_strength_pa == Approx(0.8e6));
     CHECK(s1.micro.crushing_weibull_modulus == base.micro.crushing_weibull_modulus);
-    CHECK_FALSE(s1.effects.grain_breakage);  // creep bond damage untouched
+    CHECK(s1.micro.crushing_hardening_ratio == base.micro.crushing_hardening_ratio);
+    CHECK_FALSE(s1.effects.accelerated_bond_corrosion);  // creep bond damage untouched
     const TestScheme s0 = shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {0.0}}}}, 200e3);
     CHECK(s0.micro.crushing_strength_pa == 0.0);
     CHECK_THROWS_WITH(shear_model.scheme_for({nominal(shear_model), {{Effect::BondDegradation, {-0.5}}}}, 200e3),
@@ -126,7 +127,7 @@ TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear da
     CHECK(far.base_parameters()[2].nominal == 0.0);  // one pressure: no cohesion intercept claimed
 
     // With creep curves: a second parameter, extra bond damage in the creep holds
-    // (breakage_damage_scale = 1 + e), off at 0 too.
+    // (bond_corrosion_scale = 1 + e), off at 0 too.
     const DemForwardModel creep_model(base, lab_conditions(), 1, 0);
     const auto both = creep_model.effect_parameters(Effect::BondDegradation);
     REQUIRE(both.size() == 2);
@@ -134,8 +135,8 @@ TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear da
     CHECK(both[1].lower_is_off);
     const TestScheme s2 = creep_model.scheme_for({nominal(creep_model), {{Effect::BondDegradation, {0.5, 2.0}}}}, 200e3);
     CHECK(s2.micro.crushing_strength_pa == Approx(1.2e6));
-    CHECK(s2.effects.grain_breakage);
-    CHECK(s2.effects.breakage_damage_scale == Approx(3.0));
+    CHECK(s2.effects.accelerated_bond_corrosion);
+    CHECK(s2.effects.bond_corrosion_scale == Approx(3.0));
 }
 
 TEST_CASE("DEM forward model: every pressure's shear reaches the lab's last reading (15 %)", "[diagnose][dem]") {

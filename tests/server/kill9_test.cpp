@@ -7,12 +7,17 @@
 #include <httplib.h>
 #include <nlohmann/json.hpp>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
+#include <sqlite3.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -122,6 +127,7 @@ public:
         return out;
     }
     Reply get(const std::string& path) const { return request("GET", path); }
+    int port() const { return port_; }
     Reply post(const std::string& path, const json& body) const { return request("POST", path, body.dump()); }
 
     json wait_status(long long run, const std::string& status, int timeout_s = 120) const {
@@ -156,6 +162,22 @@ struct TempDir {
         fs::remove_all(path, ec);
     }
 };
+
+// PRAGMA integrity_check of the store, read-only, with no daemon running.
+std::string integrity(const fs::path& data) {
+    sqlite3* db = nullptr;
+    REQUIRE(sqlite3_open_v2((data / "triax.db").string().c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK);
+    std::string out;
+    sqlite3_exec(
+        db, "PRAGMA integrity_check",
+        [](void* o, int, char** v, char**) {
+            *static_cast<std::string*>(o) += v[0] ? v[0] : "";
+            return 0;
+        },
+        &out, nullptr);
+    sqlite3_close(db);
+    return out;
+}
 
 }  // namespace
 
@@ -245,4 +267,101 @@ TEST_CASE("triaxd killed with SIGKILL mid-run loses nothing stored - the run is 
         CHECK(d.get(id_path("/runs/", again) + "/results/stress-strain").body["rows"] == json::parse(ss_text)["rows"]);
         CHECK(d.terminate() == 0);
     }
+}
+
+TEST_CASE("triaxd killed with SIGKILL mid-upload and mid-diagnosis loses nothing stored - the diagnosis re-runs",
+          "[server][e2e][engine][kill9]") {
+    TempDir dir;
+    const auto data = dir.path / "data";
+    const std::string csv = "confining_kPa,axial_strain_pct,q_kPa\n100,0.1,20\n100,0.4,60\n100,0.8,90\n";
+    long long dataset_id = 0, diagnosis_id = 0;
+    std::string dataset_text, request_options;
+    {
+        Daemon d(data);
+        const auto ds = d.request("POST", "/datasets?name=kept", csv, "text/csv");
+        REQUIRE(ds.status == 201);
+        dataset_id = ds.body["id"];
+        dataset_text = d.get("/datasets/" + std::to_string(dataset_id)).text;
+        // A diagnosis, killed while it runs its DEM evaluations.
+        json scheme = kSmallScheme;
+        const auto sub = d.post("/datasets/" + std::to_string(dataset_id) + "/diagnose",
+                                json{{"scheme", scheme}, {"budget_runs", 4}, {"refine_runs", 1}, {"max_candidates", 1},
+                                     {"max_effects", 1}, {"seed", 1}});
+        INFO(sub.text);
+        REQUIRE(sub.status == 202);
+        diagnosis_id = sub.body["id"];
+        json st;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        while (std::chrono::steady_clock::now() < deadline) {
+            st = d.get("/diagnoses/" + std::to_string(diagnosis_id)).body;
+            if (st.value("status", "") == "running" && st.value("progress_pct", 0.0) > 0.0) break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        INFO(st.dump());
+        REQUIRE(st["status"] == "running");
+        request_options = st["options"].dump();
+        // An upload in flight: headers and half a chunked body sent, the rest never comes.
+        const int fd = socket(AF_INET, SOCK_STREAM, 0);
+        REQUIRE(fd >= 0);
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(static_cast<std::uint16_t>(d.port()));
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+        std::string part = "POST /datasets?name=half HTTP/1.1\r\nHost: 127.0.0.1:" + std::to_string(d.port()) +
+                           "\r\nContent-Type: text/csv\r\nTransfer-Encoding: chunked\r\n\r\n";
+        std::string chunk = "confining_kPa,axial_strain_pct,q_kPa\n";
+        while (chunk.size() < 60000) chunk += "100,0.5,80\n";
+        char size_line[32];
+        std::snprintf(size_line, sizeof size_line, "%zx\r\n", chunk.size());
+        part += size_line + chunk + "\r\n";
+        REQUIRE(send(fd, part.data(), part.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(part.size()));
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the server is reading it
+        d.kill9();
+        close(fd);
+    }
+    CHECK(integrity(data) == "ok");
+    {
+        Daemon d(data);
+        CHECK(d.get("/datasets/" + std::to_string(dataset_id)).text == dataset_text);
+        const auto list = d.get("/datasets");
+        CHECK(list.body["total"] == 1);  // the half upload was never stored
+        const auto killed = d.get("/diagnoses/" + std::to_string(diagnosis_id));
+        INFO(killed.text);
+        CHECK(killed.body["status"] == "interrupted");
+        const auto stream = d.get("/diagnoses/" + std::to_string(diagnosis_id) + "/events").text;
+        const auto last_event = stream.rfind("event: ");
+        REQUIRE(last_event != std::string::npos);
+        CHECK(stream.compare(last_event, 12, "event: error") == 0);
+        // Re-run: the same dataset and options, a new diagnosis naming its origin.
+        const auto rerun = d.post("/diagnoses/" + std::to_string(diagnosis_id) + "/rerun", json::object());
+        INFO(rerun.text);
+        REQUIRE(rerun.status == 202);
+        const long long again = rerun.body["id"];
+        CHECK(again != diagnosis_id);
+        const auto fresh = d.get("/diagnoses/" + std::to_string(again)).body;
+        CHECK(fresh["rerun_of"] == diagnosis_id);
+        CHECK(fresh["dataset_id"] == dataset_id);
+        CHECK(fresh["options"].dump() == request_options);
+        // It runs; cancelling it keeps the test short (cancel is honoured within a chunk).
+        json st;
+        const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+        while (std::chrono::steady_clock::now() < deadline) {
+            st = d.get("/diagnoses/" + std::to_string(again)).body;
+            if (st.value("status", "") == "running") break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        REQUIRE(st["status"] == "running");
+        REQUIRE(d.post("/diagnoses/" + std::to_string(again) + "/cancel", json::object()).status == 202);
+        const auto t0 = std::chrono::steady_clock::now();
+        while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(10)) {
+            st = d.get("/diagnoses/" + std::to_string(again)).body;
+            if (st.value("status", "") == "cancelled") break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        CHECK(st["status"] == "cancelled");
+        CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(2));
+        CHECK(d.terminate() == 0);
+    }
+    CHECK(integrity(data) == "ok");
 }

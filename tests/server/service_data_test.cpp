@@ -153,7 +153,12 @@ TEST_CASE("error path of every endpoint answers problem details", "[server][erro
     auto r = srv.post("/schemes", json{{"specimen", {{"target_porosity", 1.5}}}});
     check_problem(r, 422);
     CHECK(r.body["field"] == "/specimen/target_porosity");
+    // Beyond the engine's own specimen budget: refused naming the gradation field.
     r = srv.post("/schemes", json{{"gradation", {{"kind", "radius_ratio"}, {"r_min_mm", 0.001}, {"radius_ratio", 1.01}}}});
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/gradation/r_min_mm");
+    // Within it (about 960,000 grains) but beyond this service's particle limit.
+    r = srv.post("/schemes", json{{"gradation", {{"kind", "radius_ratio"}, {"r_min_mm", 0.5}, {"radius_ratio", 1.5}}}});
     check_problem(r, 422);
     CHECK(r.body["limit"].get<std::string>().find("particle_count") != std::string::npos);
     r = srv.post("/schemes", json{{"gradation", {{"kind", "radius_ratio"}, {"r_min_mm", -1}}}});

@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
 #include <set>
 #include <thread>
@@ -97,8 +98,9 @@ struct Reply {
 
 class TestServer {
 public:
+    // `tweak` adjusts the configuration (limits, token) before the service starts.
     explicit TestServer(service::RunExecutor executor, std::filesystem::path dir = {}, int workers = 1,
-                        int queue_limit = 8)
+                        int queue_limit = 8, const std::function<void(service::ServiceConfig&)>& tweak = {})
         : dir_(dir.empty() ? make_temp_dir("srv") : dir), owns_dir_(dir.empty()) {
         service::ServiceConfig cfg;
         cfg.host = "127.0.0.1";
@@ -107,7 +109,9 @@ public:
         cfg.workers = workers;
         cfg.queue_limit = queue_limit;
         cfg.max_body_bytes = 1 << 20;
-        cfg.http_threads = 16;
+        cfg.http_threads = 24;
+        cfg.max_event_streams = 16;
+        if (tweak) tweak(cfg);
         service_ = std::make_unique<service::Service>(cfg, std::move(executor));
         port_ = service_->start_background();
     }

@@ -1,10 +1,19 @@
 // Drives the triaxd page in headless Debian Chromium (playwright-core, no bundled browser):
-// 1. the form loads the presets; a bad value comes back as a 422 shown beside its field;
-// 2. a tiny scheme (few particles, short stages) picked through the form is submitted and
-//    the live plots grow as the SSE stream arrives, until the run is done;
-// 3. a small lab CSV written here is uploaded, compared with the run, and the metrics
-//    table, overlay and residual plots appear; PNG and CSV downloads work;
-// 4. screenshots of each step go to tests/web/screenshots/.
+// 1. the landing: what the tool does, the paper's groups as cards, the essential fields
+//    first (the model under "Advanced"), the estimate of particles, steps and minutes
+//    before Submit (POST /estimate), a scheme that would fail refused with what to change,
+//    a bad value's 422 beside its field;
+// 2. a tiny scheme submitted through the form; the live plots (uPlot) grow as the SSE stream
+//    arrives, with the live readout, lab readings overlaid while the run goes, hover
+//    readout, zoom, legend toggle, log time, q from 0, PNG with title and test conditions;
+//    each creep stage starts at t = 0 as GET /runs/{id}/results/creep?stage=k does;
+// 3. lab readings uploaded and compared: the whole lab curve and the continuous model curve
+//    drawn, readings outside the model range counted, only finished runs offered;
+// 4. the diagnosis panel: cost before start, report with the residual chart, parameters in
+//    the form's words, "run with these parameters" and "re-run";
+// 5. the 3D specimen panel; phone layout at 390 px; accessible names on every control;
+// 6. screenshots of each page at 1440x900 and 390x844 (TRIAX_WEB_SCREENS, default
+//    tests/web/screenshots/).
 // Run by tests/web/run.sh, which starts the server and sets TRIAX_BASE_URL.
 
 import { chromium } from 'playwright-core';
@@ -16,7 +25,7 @@ import { fileURLToPath } from 'node:url';
 const here = path.dirname(fileURLToPath(import.meta.url));
 const base = process.env.TRIAX_BASE_URL || 'http://127.0.0.1:8080';
 const tmp = fs.mkdtempSync(path.join(process.env.TRIAX_WEB_TMP || os.tmpdir(), 'browser-'));
-const shots = path.join(here, 'screenshots');
+const shots = process.env.TRIAX_WEB_SCREENS || path.join(here, 'screenshots');
 fs.mkdirSync(shots, { recursive: true });
 const RUN_TIMEOUT_MS = Number(process.env.TRIAX_WEB_RUN_TIMEOUT_MS || 150000);
 
@@ -35,11 +44,58 @@ const TINY = [
   // step; consolidation drops from ~35 s to ~3 s, the run from ~80 s to ~15 s.
   ['/micro/membrane_particle_radius_mm', '4'],
   ['/loading/max_axial_strain_pct', '2'],
-  ['/loading/stress_levels', '0.5'],
-  ['/loading/stage_durations_min', '1'],
+  ['/loading/stress_levels', '0.3, 0.5'],
+  ['/loading/stage_durations_min', '1, 1'],
 ];
 // A value the schema cannot accept, to see the 422 land beside its field.
 const INVALID = [[/target_porosity$/, '1.5'], [/particle_count$|particles$/, '-5']];
+
+// A snapshot in the shape of GET /runs/{id}/snapshots/{stage}?format=json: grains in a
+// 100 x 200 mm cylinder, a membrane lattice around it, contacts between neighbours and
+// three measurement spheres. Deterministic (no Math.random).
+function fixtureSnapshot(nGrains, nMembrane) {
+  const p = { x_mm: [], y_mm: [], z_mm: [], radius_mm: [], group: [], displacement_mm: [], rotation_rad: [], crushed: [] };
+  const add = (x, y, z, r, g, d, rot, c) => { p.x_mm.push(x); p.y_mm.push(y); p.z_mm.push(z); p.radius_mm.push(r); p.group.push(g); p.displacement_mm.push(d); p.rotation_rad.push(rot); p.crushed.push(c); };
+  for (let i = 0; i < nGrains; i++) {
+    const a = i * 2.399963, rr = 46 * Math.sqrt((i % 97) / 97), z = -98 + 196 * (i / nGrains);
+    add(rr * Math.cos(a), rr * Math.sin(a), z, 2.2 + (i % 7) * 0.3, 0, Math.abs(z + 100) / 40, (i % 13) / 13, i % 17 === 0 ? 1 : 0);
+  }
+  const ring = Math.ceil(nMembrane / 40);
+  for (let k = 0; k < nMembrane; k++) {
+    const a = 2 * Math.PI * (k % ring) / ring, z = -98 + 196 * Math.floor(k / ring) / 40;
+    add(52 * Math.cos(a), 52 * Math.sin(a), z, 2.5, 1, 0, 0, 0);
+  }
+  const c = { i: [], j: [], normal_force_N: [], shear_force_N: [], bonded: [] };
+  for (let i = 0; i + 1 < nGrains; i++) { c.i.push(i); c.j.push(i + 1); c.normal_force_N.push(10 + (i % 23) * (i % 5)); c.shear_force_N.push(1); c.bonded.push(i % 3 === 0 ? 1 : 0); }
+  return { stage: 'shear', particles: p, groups: { 0: 'grain', 1: 'membrane' }, contacts: c,
+    measurement_spheres: [-60, 0, 60].map(z => ({ center_mm: [0, 0, z], radius_mm: 20 })) };
+}
+
+// The 3D card's canvas: share of drawn (non-white) pixels and the time of two orbit frames.
+const viewerPixels = page => page.evaluate(async () => {
+  const card = document.querySelector('#specimen-card'), v = card.specimen;
+  if (!v?.renderer) return { ok: false };
+  const c = v.renderer.domElement;
+  v.renderer.render(v.scene, v.camera);
+  const probe = document.createElement('canvas');
+  probe.width = c.width; probe.height = c.height;
+  const ctx = probe.getContext('2d');
+  ctx.drawImage(c, 0, 0);
+  const px = ctx.getImageData(0, 0, c.width, c.height).data;
+  let coloured = 0;
+  for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) coloured++;
+  // Two orbit frames, each rendered and finished (readPixels waits for the GPU): logged,
+  // not asserted (software WebGL here; the figure says nothing about a GPU).
+  const gl = v.renderer.getContext(), one = new Uint8Array(4);
+  const t0 = performance.now();
+  for (let k = 0; k < 2; k++) {
+    v.camera.position.applyAxisAngle(new v.THREE.Vector3(0, 1, 0), 0.05);
+    v.camera.lookAt(v.controls.target);
+    v.renderer.render(v.scene, v.camera);
+    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+  }
+  return { ok: true, share: coloured / (px.length / 4), ms: (performance.now() - t0) / 2, grains: Number(card.dataset.grains), chains: v.chainCount };
+});
 
 let failures = 0;
 const log = (...a) => console.log('[browser-test]', ...a);
@@ -49,15 +105,49 @@ function check(cond, what) {
 }
 
 const getJSONFromPage = (page, url) => page.evaluate(u => fetch(u).then(r => r.json()), url);
-const points = (page, id) => page.$eval(`#${id} canvas`, c => Number(c.dataset.points || 0));
+const points = (page, id) => page.$eval(`#${id}`, c => Number(c.dataset.points || 0));
+const openAdvanced = page => page.$eval('#advanced-fields', d => { d.open = true; });
+// Every page at both widths: the desktop and a phone (no sideways scrolling on the phone).
+async function bothWidths(page, name) {
+  const wide = { width: 1440, height: 900 }, phone = { width: 390, height: 844 };
+  await page.mouse.move(1, 1); // no hover highlight in the pictures
+  await page.setViewportSize(wide);
+  await nextFrame(page);
+  await page.screenshot({ path: path.join(shots, `${name}_1440.png`), fullPage: true });
+  await page.setViewportSize(phone);
+  await page.waitForTimeout(150);
+  await nextFrame(page);
+  const sideways = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+  await page.screenshot({ path: path.join(shots, `${name}_390.png`), fullPage: true });
+  await page.screenshot({ path: path.join(shots, `${name}_390_first_screen.png`) });
+  await page.setViewportSize(wide);
+  await nextFrame(page);
+  check(sideways <= 0, `${name}: no sideways scrolling at 390 px (${sideways} px too wide)`);
+}
+// Every control and canvas has an accessible name (label, aria-label(ledby), title, text).
+const unnamedControls = page => page.evaluate(() => {
+  const named = e => {
+    if (e.getAttribute('aria-label') || e.getAttribute('title')) return true;
+    const by = e.getAttribute('aria-labelledby');
+    if (by && by.split(/\s+/).some(id => document.getElementById(id)?.textContent.trim())) return true;
+    if (e.id && document.querySelector(`label[for="${CSS.escape(e.id)}"]`)) return true;
+    if (e.closest('label')) return true;
+    if (e.tagName === 'BUTTON' || e.tagName === 'A') return e.textContent.trim().length > 0;
+    if (e.tagName === 'CANVAS') { const f = e.closest('figure[aria-labelledby]'); return !!f; }
+    return false;
+  };
+  const hidden = e => e.closest('[hidden]') || (e.type === 'hidden');
+  return [...document.querySelectorAll('input, select, textarea, button, canvas, a[href]')]
+    .filter(e => !hidden(e) && !named(e)).map(e => `${e.tagName.toLowerCase()}#${e.id || ''}.${e.className || ''}`.slice(0, 80));
+});
 const nextFrame = page => page.evaluate(() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r))));
 
 const context = await chromium.launchPersistentContext(path.join(tmp, 'profile'), {
   executablePath: '/usr/bin/chromium',
   headless: true,
   acceptDownloads: true,
-  viewport: { width: 1360, height: 900 },
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run', '--disable-background-networking',
+  viewport: { width: 1440, height: 900 },
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--enable-unsafe-swiftshader', '--no-first-run', '--disable-background-networking',
     '--disable-component-update', '--disable-sync', '--disable-quic'],
 });
 const page = context.pages()[0] || await context.newPage();
@@ -66,12 +156,66 @@ page.on('pageerror', e => pageErrors.push(String(e)));
 page.on('console', m => { if (m.type() === 'error') log('console error:', m.text()); });
 
 try {
-  // ---- 1. form, presets, error beside the field ------------------------------------
+  // ---- 0. the page's packages come from triaxd, the npm tree is not served ------------
+  const served = async u => (await fetch(`${base}${u}`)).status;
+  check(await served('/vendor/uPlot.esm.js') === 200 && await served('/vendor/three.module.js') === 200,
+    'uPlot and three.js are served from /vendor/ (local files, no CDN)');
+  check(await served('/node_modules/uplot/package.json') === 404 && await served('/static/node_modules/three/package.json') === 404 &&
+    await served('/package.json') === 404, 'web/node_modules and package.json are not served');
+  // A dataset uploaded before the run, to be overlaid on its plots while it goes.
+  const earlyLab = ['kind,stage,confining_kPa,time_min,axial_strain_pct,axial_deformation_mm,q_kPa,volumetric_strain_pct'];
+  for (let i = 0; i <= 10; i++) earlyLab.push(`shear,,50,,${(0.2 * i).toFixed(2)},,${(150 * 0.2 * i / (0.3 + 0.2 * i)).toFixed(2)},${(0.05 * i).toFixed(3)}`);
+  const early = await (await fetch(`${base}/datasets?format=csv&name=early-lab`, { method: 'POST', headers: { 'Content-Type': 'text/csv' }, body: earlyLab.join('\n') + '\n' })).json();
+
+  // ---- 1. landing: what the tool does, preset cards, essential fields, estimate -------
   await page.goto(`${base}/`);
   await page.waitForSelector('#presets button.preset', { timeout: 15000 });
-  const presetNames = await page.$$eval('#presets button.preset', bs => bs.map(b => b.dataset.preset));
+  const intro = await page.textContent('.intro p');
+  check(/discrete-element/.test(intro) && /creep/.test(intro) && intro.length > 200, 'the landing says what the tool does in one paragraph');
+  const cards = await page.$$eval('#presets button.preset', bs => bs.map(b => ({ name: b.dataset.preset, text: b.textContent })));
+  const presetNames = cards.map(c => c.name);
   log('presets:', presetNames.join(' '));
-  check(presetNames.length >= 5, 'GET /presets gives the five paper groups A-E as buttons');
+  check(presetNames.length >= 5, 'GET /presets gives the five paper groups A-E as cards');
+  check(cards.every(c => /σ3 = \d+ kPa/.test(c.text) && /w = [\d.]+ %/.test(c.text) && /series|reference/.test(c.text)),
+    `each card states σ3, moisture and what the group tests (${cards[1]?.text})`);
+  await page.click('#presets button.preset >> nth=0');
+  const essentials = await page.$$eval('#essential-fields [data-pointer].field', fs => fs.map(f => f.dataset.pointer));
+  check(['/loading/confining_pressure_kPa', '/loading/stress_levels', '/loading/stage_durations_min', '/specimen/diameter_mm', '/max_particles']
+    .every(p => essentials.includes(p)), `the essential fields come first (${essentials.join(', ')})`);
+  check(await page.$eval('#advanced-fields', d => !d.open && d.querySelectorAll('input').length > 40),
+    'the model parameters wait under "Advanced" (closed)');
+  // Keyboard: Submit is a few Tab presses away, past the cards and the essential fields.
+  await page.focus('#presets button.preset >> nth=0');
+  let tabs = 0;
+  for (; tabs < 80; tabs++) {
+    if (await page.evaluate(() => document.activeElement?.id === 'submit-run')) break;
+    await page.keyboard.press('Tab');
+  }
+  check(tabs < 30, `Submit is ${tabs} Tab presses from the first preset card`);
+  await page.waitForFunction(() => Number(document.querySelector('#estimate')?.dataset.grains || 0) > 0, null, { timeout: 15000 });
+  const estimateText = await page.textContent('#estimate');
+  log('estimate:', estimateText);
+  check(/grains/.test(estimateText) && /steps/.test(estimateText) && /min|h/.test(estimateText), 'the estimate of particles, steps and minutes shows before Submit');
+  // The estimate follows the form: fewer grains when the particle count is lowered.
+  const grainsBefore = Number(await page.$eval('#estimate', e => e.dataset.grains));
+  await page.fill('#scheme-form input[data-pointer="/max_particles"]', '300');
+  await page.waitForFunction(g => { const n = Number(document.querySelector('#estimate')?.dataset.grains || 0); return n > 0 && n !== g; }, grainsBefore, { timeout: 10000 });
+  const grains300 = Number(await page.$eval('#estimate', e => e.dataset.grains));
+  check(grains300 > 200 && grains300 <= 320, `the estimate follows the particle count (${grainsBefore} -> ${grains300} grains)`);
+  // The preset that failed in consolidation (B at 150 grains) is corrected by the automatic
+  // membrane size; a membrane chosen too fine for its grains is refused with what to change.
+  const est = async body => { const r = await fetch(`${base}/estimate`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) }); return [r.status, await r.json()]; };
+  const [okStatus, b150] = await est({ preset: 'B', max_particles: 150 });
+  check(okStatus === 200 && b150.membrane_particle_radius_mm >= b150.grain_mean_diameter_mm / 4 && b150.grains <= 160,
+    `POST /estimate: preset B at 150 grains gets membrane spheres no smaller than its grains (${b150.membrane_particle_radius_mm?.toFixed(2)} mm, ${b150.grains} grains)`);
+  const [badStatus, bad] = await est({ preset: 'B', max_particles: 150, micro: { membrane_particle_radius_mm: 5 } });
+  check(badStatus === 422 && bad.field === '/micro/membrane_particle_radius_mm' && /at least/.test(bad.detail),
+    `a membrane too fine for the grains is refused naming the field and what to change (${badStatus} ${bad.field}: ${bad.detail})`);
+  await openAdvanced(page);
+  await page.fill('#scheme-form input[data-pointer="/micro/membrane_particle_radius_mm"]', '1');
+  await page.fill('#scheme-form input[data-pointer="/max_particles"]', '150');
+  await page.waitForSelector('#estimate .estimate-error', { timeout: 10000 });
+  check(/membrane/.test(await page.textContent('#estimate')), `the page shows the refusal before Submit (${(await page.textContent('#estimate')).trim()})`);
   await page.click('#presets button.preset >> nth=0');
   const pointers = await page.$$eval('#scheme-form input[data-pointer], #scheme-form select[data-pointer]', es => es.map(e => e.dataset.pointer));
   check(pointers.length >= 5, `the scheme form has editable fields (${pointers.length})`);
@@ -80,12 +224,15 @@ try {
   // Every number field states a unit or (–); only integer counts may go without.
   const unmarked = await page.$$eval('#scheme-form .field', fs => fs.filter(f => f.querySelector('input[type=number]') && !/\(.+\)\s*$/.test(f.querySelector('label').textContent))
     .map(f => f.querySelector('label').textContent.trim()));
-  check(unmarked.every(l => ['seed', 'threads', 'max particles'].includes(l)), `number fields without a unit are counts only (${unmarked.join(', ')})`);
-  await page.screenshot({ path: path.join(shots, '01_new_run_form.png'), fullPage: true });
+  check(unmarked.every(l => ['seed', 'threads', 'particle count (largest number of grains)'].includes(l)), `number fields without a unit are counts only (${unmarked.join(', ')})`);
+  const unnamedNew = await unnamedControls(page);
+  check(unnamedNew.length === 0, `every control of the new-run page has an accessible name (${unnamedNew.join(', ')})`);
+  await bothWidths(page, '01_new_run');
 
   const [badPointer, badValue] = INVALID.map(([re, v]) => [pointers.find(p => re.test(p)), v]).find(([p]) => p) || [];
   check(!!badPointer, `a field to make invalid exists (${badPointer})`);
   if (badPointer) {
+    await openAdvanced(page);
     await page.fill(`#scheme-form input[data-pointer="${badPointer}"]`, badValue);
     await page.click('#submit-run');
     await page.waitForFunction(() => document.querySelector('#form-error')?.textContent.trim().length > 0, null, { timeout: 15000 });
@@ -94,11 +241,12 @@ try {
     log('422 shown:', await page.textContent('#form-error'));
     check(beside.has && beside.text.length > 0, `the 422 message is shown beside ${badPointer}: "${beside.text}"`);
     check(page.url().endsWith('/') || !/#\/runs\/\d+/.test(page.url()), 'an invalid scheme does not start a run');
-    await page.screenshot({ path: path.join(shots, '02_validation_error.png'), fullPage: false });
+    await page.screenshot({ path: path.join(shots, '02_validation_error_1440.png'), fullPage: false });
     await page.click('#presets button.preset >> nth=0'); // back to the valid preset
   }
 
   // ---- 2. a tiny run through the form, plots grow live -----------------------------
+  await openAdvanced(page);
   const changed = await page.$$eval('#scheme-form input[data-pointer]', (inputs, rules) => {
     const out = [];
     for (const [pointer, v] of rules) {
@@ -126,7 +274,7 @@ try {
       const parent = keys.reduce((o, k) => o[k], s);
       parent[last] = Array.isArray(parent[last]) ? v.split(',').map(Number) : typeof parent[last] === 'number' ? Number(v) : v;
     }
-    s.loading.stage_durations_min = [stageMinutes];
+    s.loading.stage_durations_min = s.loading.stress_levels.map(() => stageMinutes);
     return s;
   };
   const post = (url, body) => fetch(`${base}${url}`, { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
@@ -145,13 +293,21 @@ try {
   log('run', runId, 'submitted');
   await page.waitForFunction(() => document.querySelector('#run-status')?.textContent === 'queued' &&
     Number(document.querySelector('.events-info')?.dataset.count || 0) > 0, null, { timeout: 15000 });
+  // Lab readings overlaid while the run waits and goes.
+  await page.waitForSelector(`#overlay-dataset option[value="${early.id}"]`, { state: 'attached', timeout: 10000 });
+  await page.selectOption('#overlay-dataset', String(early.id));
+  await page.click('#overlay-dataset-add');
+  await page.waitForFunction(() => Number(document.querySelector('#overlay-info')?.dataset.readings || 0) > 0, null, { timeout: 10000 });
+  const overlaid = await page.$eval('#plot-q', f => [...f.chart.series.keys()]);
+  check(overlaid.some(n => /^lab #/.test(n)) && await page.textContent('#run-status') !== 'done',
+    `lab readings are overlaid on the q plot while the run is not done (${overlaid.join(', ')})`);
   await post(`/runs/${blocker}/cancel`, {});
 
   // First point (or an early end: a failed run must not cost the whole timeout).
-  await page.waitForFunction(() => Number(document.querySelector('#plot-q canvas')?.dataset.points || 0) > 0 ||
+  await page.waitForFunction(() => Number(document.querySelector('#plot-q')?.dataset.points || 0) > 0 ||
     ['done', 'failed', 'cancelled', 'interrupted'].includes(document.querySelector('#run-status')?.textContent), null, { timeout: RUN_TIMEOUT_MS });
   const firstCount = await points(page, 'plot-q');
-  await page.screenshot({ path: path.join(shots, '03_run_live.png'), fullPage: true });
+  await page.screenshot({ path: path.join(shots, '03_run_live_1440.png'), fullPage: true });
   const progressSeen = await page.$eval('.run-header', h => h.textContent);
   log('header while running:', progressSeen.replace(/\s+/g, ' '));
   check(/%/.test(progressSeen) && /ETA/.test(progressSeen), 'the run page shows stage, % and ETA');
@@ -168,17 +324,34 @@ try {
   }
   const status = await page.textContent('#run-status');
   const counts = {};
-  for (const id of ['plot-q', 'plot-vol', 'plot-creep', 'plot-creep-log', 'plot-energy', 'plot-measure']) counts[id] = await points(page, id);
+  for (const id of ['plot-q', 'plot-vol', 'plot-pq', 'plot-creep', 'plot-creep-log', 'plot-energy', 'plot-measure']) counts[id] = await points(page, id);
   log('final status', status, 'point counts', JSON.stringify(counts), 'first q count', firstCount);
   check(status === 'done', `the run finishes (status ${status})`);
   check(counts['plot-q'] > firstCount && seenCounts.size >= 2,
     `q-axial strain curve grew while streaming (counts seen: ${[...seenCounts].sort((a, b) => a - b).join(', ')})`);
   check(counts['plot-vol'] > 1, 'volumetric strain curve has points');
   check(counts['plot-creep'] > 1, 'creep curves have points');
+  check(counts['plot-pq'] > 1, `the stress path q vs p' has points (${counts['plot-pq']})`);
+  const readout = await page.textContent('#live-readout');
+  check(/εa/.test(readout) && /q/.test(readout) && /p'/.test(readout) && /\d/.test(readout), `the live readout shows the current state (${readout.trim()})`);
   // The same creep points on log time; only t <= 0 may be left out there.
-  const creepLogShown = await page.$eval('#plot-creep-log canvas', c => Number(c.dataset.visible || 0));
-  const creepSeries = Number(await page.$eval('#plot-creep canvas', c => c.dataset.series));
-  check(creepSeries === 1, `one creep series per stage (${creepSeries} for the one stage)`);
+  const creepLogShown = await page.$eval('#plot-creep-log', c => Number(c.dataset.visible || 0));
+  const creepSeries = Number(await page.$eval('#plot-creep', c => c.dataset.series));
+  check(creepSeries === 2, `one creep series per stage (${creepSeries} for the two stages)`);
+  // Every stage from its own origin, as the server's per-stage series: t = 0 first, the same
+  // deformation at each reading.
+  const pageStages = await page.$eval('#plot-creep', f => [...f.chart.series.values()].filter(s => /^stage/.test(s.name)).map(s => s.points));
+  for (let k = 1; k <= pageStages.length; k++) {
+    const server = (await (await fetch(`${base}/runs/${runId}/results/creep?stage=${k}`)).json()).rows;
+    const mine = pageStages[k - 1];
+    const same = server.length === mine.length && server.every((r, i) => Math.abs(r[0] - mine[i][0]) < 1e-9 && Math.abs(r[1] - mine[i][1]) < 1e-9);
+    check(mine[0][0] === 0 && same, `creep stage ${k} starts at t = 0 and matches GET /runs/{id}/results/creep?stage=${k} (${mine.length} points, first t ${mine[0][0]}, last t ${mine[mine.length - 1][0].toFixed(3)} min)`);
+  }
+  check(await page.$eval('#plot-creep-log', f => f.chart.u.scales.x.distr === 3), 'the log-time creep plot has a log time axis');
+  check(await page.$eval('#plot-q', f => f.chart.u.scales.y.min === 0), 'the q axis starts at 0');
+  // uPlot draws the tick labels on the canvas; the axis keeps the labels it drew.
+  const ticks = await page.$eval('#plot-q', f => f.chart.u.axes.map(a => (a._values || []).filter(v => v !== '' && v != null)));
+  check(ticks.length === 2 && ticks.every(v => v.length >= 4), `the q plot's axes carry ticks (${ticks.map(v => v.join(' ')).join(' | ')})`);
   check(counts['plot-creep-log'] === counts['plot-creep'] && creepLogShown > 1 && creepLogShown >= counts['plot-creep'] - creepSeries,
     `creep on log time shows the stage's points (${creepLogShown} of ${counts['plot-creep-log']})`);
   // The header's activity line follows the run page at once, not one polling period later.
@@ -188,15 +361,51 @@ try {
   check(counts['plot-energy'] > 1, 'energy curves have points');
   check(counts['plot-measure'] > 0, 'measurement-sphere histories have points');
   await nextFrame(page); // plots redraw once per animation frame
-  await page.screenshot({ path: path.join(shots, '04_run_done.png'), fullPage: true });
+  // Hover readout, box zoom, double-click reset, legend toggle.
+  const over = await page.$('#plot-q .u-over');
+  const box = await over.boundingBox();
+  await page.mouse.move(box.x + box.width * 0.5, box.y + box.height * 0.5);
+  await nextFrame(page);
+  const hover = await page.$$eval('#plot-q .u-legend .u-series .u-value', vs => vs.map(v => v.textContent));
+  check(hover.length >= 2 && hover.slice(1).some(v => /\d/.test(v)), `hovering the q plot reads values in the legend (${hover.join(' | ')})`);
+  const xBefore = await page.$eval('#plot-q', f => [f.chart.u.scales.x.min, f.chart.u.scales.x.max]);
+  await page.mouse.move(box.x + box.width * 0.2, box.y + box.height * 0.2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width * 0.5, box.y + box.height * 0.8, { steps: 5 });
+  await page.mouse.up();
+  await nextFrame(page);
+  const xZoom = await page.$eval('#plot-q', f => [f.chart.u.scales.x.min, f.chart.u.scales.x.max]);
+  check(xZoom[1] - xZoom[0] < 0.6 * (xBefore[1] - xBefore[0]), `dragging a box zooms in (x ${xBefore.map(v => v.toFixed(3))} -> ${xZoom.map(v => v.toFixed(3))})`);
+  await page.mouse.dblclick(box.x + box.width * 0.5, box.y + box.height * 0.5);
+  await nextFrame(page);
+  const xReset = await page.$eval('#plot-q', f => [f.chart.u.scales.x.min, f.chart.u.scales.x.max]);
+  check(Math.abs((xReset[1] - xReset[0]) - (xBefore[1] - xBefore[0])) < 1e-9 * (1 + xBefore[1]), 'double-click shows the whole curve again');
+  await page.click('#plot-q .u-legend .u-series:nth-child(2) th');
+  const hidden = await page.$eval('#plot-q', f => f.chart.u.series[1].show);
+  await page.click('#plot-q .u-legend .u-series:nth-child(2) th');
+  check(hidden === false && await page.$eval('#plot-q', f => f.chart.u.series[1].show), 'a click on a legend entry hides and shows its series');
+  const conditions = await page.$eval('#plot-q', f => f.chart.options.conditions());
+  check(/run #\d+/.test(conditions) && /σ3 = \d+/.test(conditions), `the PNG carries the test conditions (${conditions})`);
+  const unnamedRun = await unnamedControls(page);
+  check(unnamedRun.length === 0, `every control and canvas of the run page has an accessible name (${unnamedRun.join(', ')})`);
+  // Loading three.js and the snapshot, and the first frame in software WebGL, take seconds.
+  const specimenState = await page.waitForFunction(() => document.querySelector('#specimen-card')?.dataset.state, null, { timeout: 90000 }).then(h => h.jsonValue(), () => 'none');
+  const specimenInfo = (await page.textContent('#specimen-info').catch(() => '')).trim();
+  log('3D specimen panel:', specimenState, specimenInfo);
+  check(specimenState === 'shown' || (specimenState === 'unavailable' && /no particle snapshots/.test(specimenInfo)),
+    `the 3D panel shows the run's snapshot or says none is stored (${specimenState})`);
+  await bothWidths(page, '03_run_done');
 
   const pngDownload = page.waitForEvent('download', { timeout: 10000 });
   await page.click('#plot-q .plot-png');
   const png = await pngDownload;
   const pngPath = path.join(tmp, png.suggestedFilename());
   await png.saveAs(pngPath);
-  const pngHead = fs.readFileSync(pngPath).subarray(0, 8).toString('hex');
-  check(pngHead === '89504e470d0a1a0a', `PNG export is a PNG file (${png.suggestedFilename()})`);
+  const pngBytes = fs.readFileSync(pngPath);
+  const pngHead = pngBytes.subarray(0, 8).toString('hex');
+  const pngHeight = pngBytes.readUInt32BE(20);
+  const plotHeight = await page.$eval('#plot-q .u-wrap canvas', c => c.height);
+  check(pngHead === '89504e470d0a1a0a' && pngHeight > plotHeight, `PNG export is a PNG file with a title band and legend (${png.suggestedFilename()}, ${pngHeight} px high, plot ${plotHeight} px)`);
   const csvDownload = page.waitForEvent('download', { timeout: 10000 });
   await page.click('#plot-q .plot-csv');
   const csv = await csvDownload;
@@ -205,11 +414,50 @@ try {
   const csvLines = fs.readFileSync(csvPath, 'utf8').trim().split('\n');
   check(/kPa/.test(csvLines[0]) && csvLines.length === counts['plot-q'] + 1, `CSV export has a unit header and every point (${csvLines.length - 1} rows)`);
 
+  if (specimenState === 'shown') {
+    // The finished run's own snapshot: a non-empty image, and the VTK download parses.
+    const view = await viewerPixels(page);
+    log('3D viewer on the run:', JSON.stringify(view));
+    check(view.ok && view.grains > 0 && view.share > 0.01, `the 3D canvas renders a non-empty image of run ${runId} (${(100 * (view.share || 0)).toFixed(1)} % of pixels drawn, ${view.grains} grains)`);
+    const href = await page.getAttribute('#specimen-vtk', 'href');
+    const vtk = await (await fetch(new URL(href, base))).text();
+    const vtkPoints = Number((vtk.match(/^POINTS (\d+)/m) || [])[1]);
+    const snapJson = await (await fetch(new URL(href.replace('format=vtk', 'format=json'), base))).json();
+    check(/^# vtk DataFile Version/.test(vtk) && vtkPoints === snapJson.particles.x_mm.length,
+      `the VTK download is legacy VTK with every particle as a point (${vtkPoints} points, ${snapJson.particles.x_mm.length} in the JSON)`);
+    await page.locator('#specimen-card').scrollIntoViewIfNeeded();
+    await page.screenshot({ path: path.join(shots, '03b_specimen_3d_1440.png') });
+  }
+  if (specimenState !== 'shown') {
+    // The viewer itself on 5,000 grains + 2,000 membrane spheres in the documented snapshot
+    // shape (docs/web.md), answered by page.route while the service stores no snapshots:
+    // a non-empty image and the frame time of an orbit.
+    const snap = fixtureSnapshot(5000, 2000);
+    await page.route(u => new URL(u).pathname === `/runs/${runId}/snapshots`, r => r.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify({ run_id: runId, items: [{ stage: 'shear', grains: 5000, membrane_particles: 2000, contacts: 4999 }] }) }));
+    await page.route(u => new URL(u).pathname === `/runs/${runId}/snapshots/shear`, r => r.fulfill({ status: 200, contentType: 'application/json', body: JSON.stringify(snap) }));
+    await page.reload();
+    await page.waitForFunction(() => document.querySelector('#specimen-card')?.dataset.state === 'shown', null, { timeout: 30000 }).catch(() => {});
+    await nextFrame(page);
+    const view = await viewerPixels(page);
+    log('3D viewer on the 5k fixture:', JSON.stringify(view));
+    check(view.ok && view.grains === 5000 && view.share > 0.05, `the 3D canvas renders a non-empty image of 5,000 grains (${(100 * (view.share || 0)).toFixed(1)} % of pixels drawn, ${view.chains} strong chains)`);
+    await page.selectOption('#specimen-colour', 'crushed');
+    check(/crushed/.test(await page.textContent('#specimen-legend')), 'grains can be coloured by crushing');
+    await page.click('#specimen-membrane');
+    check(await page.evaluate(() => document.querySelector('#specimen-card').specimen.membraneMesh.visible === false), 'the membrane toggles');
+    check(/format=vtk/.test(await page.getAttribute('#specimen-vtk', 'href')), 'the VTK download link is offered');
+    await page.evaluate(() => { const v = document.querySelector('#specimen-card').specimen; v.framed = false; v.buildMeshes(); v.paint(); v.visibility(); });
+    await page.locator('#specimen-card').scrollIntoViewIfNeeded();
+    await nextFrame(page);
+    await page.screenshot({ path: path.join(shots, '03b_specimen_3d_fixture_1440.png') });
+    await page.unrouteAll();
+  }
+
   await page.goto(`${base}/#/runs`);
   await page.waitForSelector(`#runs-table tr[data-run-id="${runId}"]`, { timeout: 10000 });
   const row = await page.textContent(`#runs-table tr[data-run-id="${runId}"]`);
   check(/done/.test(row) && /100\.0 %/.test(row), `the runs list shows run ${runId} done at 100 % (${row.replace(/\s+/g, ' ').trim()})`);
-  await page.screenshot({ path: path.join(shots, '04b_runs_list.png'), fullPage: false });
+  await bothWidths(page, '04_runs_list');
 
   // ---- 3. lab readings: upload, compare, overlay, residuals, metrics ---------------
   const summary = await (await fetch(`${base}/runs/${runId}/results/summary`)).json();
@@ -252,12 +500,26 @@ try {
   const shearRow = metricRows.find(r => r[0] === 'stress_strain') || [];
   check(Number(shearRow[2]) + Number(shearRow[3]) === 21 && /kPa$/.test(shearRow[4] || '') && /kPa$/.test(shearRow[7] || ''),
     `q metrics: compared + dropped = 21 readings, RMSE and max error in kPa (${shearRow.join(' | ')})`);
-  await page.waitForFunction(() => ['plot-overlay', 'plot-residual'].every(id => Number(document.querySelector(`#${id} canvas`)?.dataset.points || 0) > 0),
+  await page.waitForFunction(() => ['plot-overlay', 'plot-residual'].every(id => Number(document.querySelector(`#${id}`)?.dataset.points || 0) > 0),
     null, { timeout: 5000 }).catch(() => {});
   const overlayPts = await points(page, 'plot-overlay');
   const residualPts = await points(page, 'plot-residual');
   check(overlayPts > 0 && residualPts > 0, `overlay (${overlayPts}) and residual (${residualPts}) plots are drawn`);
-  await page.screenshot({ path: path.join(shots, '05_comparison.png'), fullPage: true });
+  // The whole lab curve is drawn (outside the model range too, counted as the table's
+  // dropped column), the model curve is the run's whole series, not the lab abscissae.
+  const drawn = await page.$eval('#plot-overlay', f => ({ lab: Number(f.dataset.lab), outside: Number(f.dataset.outside), model: Number(f.dataset.model),
+    names: [...f.chart.series.keys()] }));
+  const modelRows = (await (await fetch(`${base}/runs/${runId}/results/stress-strain`)).json()).rows.length;
+  check(drawn.lab === 21 && drawn.outside === Number(shearRow[3]) && drawn.model === modelRows,
+    `the overlay draws all 21 lab readings (${drawn.outside} outside the model range, as the table counts) and the model's ${modelRows} points (${drawn.names.join(', ')})`);
+  check(!/null/.test(await page.textContent('#comparison-metrics')), 'no stray "null" under the metrics');
+  const pickerRuns = await page.$$eval('#compare-run option', os => os.map(o => Number(o.value)));
+  const statuses = await Promise.all(pickerRuns.map(async id => (await (await fetch(`${base}/runs/${id}`)).json()).status));
+  check(statuses.length > 0 && statuses.every(st => st === 'done') && pickerRuns.includes(runId) && !pickerRuns.includes(blocker),
+    `only finished runs are offered for comparison (${pickerRuns.join(', ')}; the cancelled #${blocker} is not)`);
+  const unnamedCompare = await unnamedControls(page);
+  check(unnamedCompare.length === 0, `every control of the comparison page has an accessible name (${unnamedCompare.join(', ')})`);
+  await bothWidths(page, '05_comparison');
 
   // ---- 4. the diagnosis panel loads its lists (the loop itself is tested elsewhere) --
   await page.goto(`${base}/#/diagnose`);
@@ -278,6 +540,13 @@ try {
   }
   check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'out-of-limits budgets queued no diagnosis');
   await page.fill('#diagnose-budget-runs', '24');
+  await page.waitForFunction(() => /DEM runs/.test(document.querySelector('#diagnose-cost')?.textContent || '') &&
+    /min|h/.test(document.querySelector('#diagnose-cost')?.textContent || ''), null, { timeout: 10000 }).catch(() => {});
+  const cost = await page.textContent('#diagnose-cost');
+  check(/\d+ to \d+ DEM runs/.test(cost) && /min|h/.test(cost), `the diagnosis shows its cost before start (${cost.trim()})`);
+  const unnamedDiag = await unnamedControls(page);
+  check(unnamedDiag.length === 0, `every control of the diagnosis page has an accessible name (${unnamedDiag.join(', ')})`);
+  await bothWidths(page, '06_diagnosis_panel');
 
   // ---- 5. a finished diagnosis's report, rendered from a stored-report fixture ----------
   // A real diagnosis is far beyond the CI budget, so the three GETs the panel makes for a
@@ -288,17 +557,27 @@ try {
   const report = {
     chosen_effect: 'rolling_resistance', effects: ['rolling_resistance', 'seating_error'],
     parameters: [{ name: 'rolling_friction', unit: '', value: 0.12, std: 0.02 }, { name: 'seating_closure', unit: '%', value: 0.35, std: 0.05 }],
-    base_parameters: [{ name: 'contact_modulus', unit: 'Pa', value: 1.2e8, std: 1e7 }],
+    base_parameters: [{ name: 'contact_normal_modulus', unit: 'Pa', value: 1.2e8, std: 1e7 }, { name: 'friction', unit: '-', value: 0.45, std: 0.03 }],
     error_before: [err('stress_strain@100kPa', 'all', 61, 21.5, 'kPa', 0.11), err('volumetric@100kPa', 'dilation', 30, 0.42, '%', 0.2),
       err('creep-1@100kPa', 'primary', 12, 0.031, 'mm', 0.09)],
     error_after: [err('stress_strain@100kPa', 'all', 61, 6.2, 'kPa', 0.032), err('volumetric@100kPa', 'dilation', 30, 0.11, '%', 0.05),
       err('creep-1@100kPa', 'primary', 12, 0.012, 'mm', 0.035)],
     nrmse_before: 0.13, nrmse_after: 0.04,
     delta_bic: { vs_base: -85.2, runners_up: [{ effect: 'bond_degradation', delta_bic: 31.4 }] },
-    candidates: [], steps: [{ step: 1, added: 'rolling_resistance', nrmse_before: 0.13, nrmse_after: 0.05, delta_bic: -70.1, n_effective: 40.2 }],
+    candidates: [{ step: 1, effect: 'rolling_resistance', signature_score: 0.8, fitted: true, parameters: [{ name: 'rolling_friction', unit: '-', value: 0.12, std: 0.02 }], rss: 1, nrmse: 0.05, bic: 10, delta_bic_vs_base: -70.1, note: '' },
+      { step: 1, effect: 'membrane_compliance', signature_score: 0.1, fitted: false, parameters: [], rss: 0, nrmse: 0, bic: 0, delta_bic_vs_base: 0, note: 'not tried' }], steps: [{ step: 1, added: 'rolling_resistance', nrmse_before: 0.13, nrmse_after: 0.05, delta_bic: -70.1, n_effective: 40.2 }],
     n_readings: 103, n_effective: 40.2, runs_used: 118, verdict: 'rolling_resistance explains the residual',
   };
-  const stored = { id: fixtureId, dataset_id: 1, status: 'done', progress_pct: 100, created_at: '2026-01-01T00:00:00Z', finished_at: '2026-01-01T01:00:00Z', error: null };
+  const diagScheme = await tinyScheme(1);
+  diagScheme.loading.stress_levels = [0.5];
+  diagScheme.loading.stage_durations_min = [1];
+  const stored = { id: fixtureId, dataset_id: 1, status: 'done', progress_pct: 100, created_at: '2026-01-01T00:00:00Z', finished_at: '2026-01-01T01:00:00Z', error: null,
+    options: { budget_runs: 24, seed: 1 }, scheme: diagScheme };
+  let rerunBody = null;
+  await page.route(u => /\/datasets\/\d+\/diagnose$/.test(new URL(u).pathname), r => {
+    rerunBody = JSON.parse(r.request().postData() || '{}');
+    return r.fulfill({ status: 202, contentType: 'application/json', body: JSON.stringify({ id: fixtureId, status: 'queued' }) });
+  });
   const fixture = async (routeReq, body, type = 'application/json') => routeReq.fulfill({ status: 200, contentType: type, body });
   await page.route(u => new URL(u).pathname === '/diagnoses', r => fixture(r, JSON.stringify({ diagnoses: [{ ...stored, chosen_effect: report.chosen_effect }] })));
   await page.route(u => new URL(u).pathname === `/diagnoses/${fixtureId}`, r => fixture(r, JSON.stringify({ ...stored, report })));
@@ -307,7 +586,7 @@ try {
   await page.goto(`${base}/#/diagnose`);
   await page.click(`#diagnoses-table a:has-text("#${fixtureId}")`);
   await page.waitForSelector('#diagnosis-before', { timeout: 10000 });
-  const heading = id => page.$eval(`#${id}`, t => t.previousElementSibling?.textContent || '');
+  const heading = id => page.$eval(`#${id}`, t => (t.closest('.table-scroll') || t).previousElementSibling?.textContent || '');
   const beforeTitle = await heading('diagnosis-before'), afterTitle = await heading('diagnosis-after');
   check(/calibrated base model/i.test(beforeTitle) && /before any effect/i.test(beforeTitle), `the "before" table is titled as the calibrated base model (${beforeTitle})`);
   check(/rolling_resistance/.test(afterTitle) && /seating_error/.test(afterTitle), `the "after" table names the effects added (${afterTitle})`);
@@ -315,9 +594,34 @@ try {
   check(JSON.stringify(rmseCells) === JSON.stringify(['21.5 kPa', '0.42 %', '0.031 mm']), `each RMSE carries its unit (${rmseCells.join(' | ')})`);
   const progressText = await page.textContent('#diagnosis-progress');
   check(/done/.test(progressText) && /100\.0 %/.test(progressText), `the finished diagnosis shows done at 100 % (${progressText.trim()})`);
-  await page.screenshot({ path: path.join(shots, '07_diagnosis_report.png'), fullPage: true });
+  const bars = await page.$$eval('#diagnosis-residual-chart .bar-row', rs => rs.length);
+  check(bars === 3, `the residual by curve and phase is drawn as a chart (${bars} rows)`);
+  const params = await page.$$eval('#diagnosis-base-parameters tr', rs => rs.slice(1).map(r => [...r.children].map(c => c.textContent)));
+  check(params[0]?.[0] === 'normal modulus' && params[0]?.[1] === '120' && params[0]?.[3] === 'MPa' && params[0]?.[4] === '/micro/normal_modulus_MPa',
+    `parameters in lab units with the form's names (${params.map(p => p.join(' ')).join('; ')})`);
+  const untried = await page.$$eval('#diagnosis-candidates-table tr', rs => rs.slice(1).map(r => [...r.children].map(c => c.textContent)));
+  check(untried[1]?.[2] === 'not fitted' && untried[1]?.[4] === '—' && untried[1]?.[5] === '—', `an untried candidate shows no NRMSE or BIC (${untried[1]?.join(' | ')})`);
+  await bothWidths(page, '07_diagnosis_report');
+  await page.click('#diagnosis-rerun');
+  await page.waitForFunction(() => true);
+  await page.waitForTimeout(300);
+  check(rerunBody && rerunBody.budget_runs === 24 && rerunBody.scheme?.loading, `"re-run" posts the same options and scheme (${JSON.stringify(rerunBody || {}).slice(0, 80)}…)`);
+  await page.click('#diagnosis-run-fitted');
+  await page.waitForURL(/#\/runs\/\d+$/, { timeout: 10000 }).catch(() => {});
+  const fittedRun = Number((page.url().match(/#\/runs\/(\d+)$/) || [])[1] || 0);
+  if (fittedRun) await post(`/runs/${fittedRun}/cancel`, {});
+  // Another run's curves over this run's plots: the finished run's whole series, dashed.
+  await page.waitForSelector(`#overlay-run option[value="${runId}"]`, { state: 'attached', timeout: 10000 }).catch(() => {});
+  await page.selectOption('#overlay-run', String(runId)).catch(() => {});
+  await page.click('#overlay-run-add');
+  await page.waitForFunction(id => /overlaid run/.test(document.querySelector('#overlay-info')?.textContent || ''), runId, { timeout: 10000 }).catch(() => {});
+  const runOverlay = await page.$eval('#plot-q', (f, id) => f.chart.series.get(`run #${id} q`)?.points.length || 0, runId);
+  const creepOverlay = await page.$eval('#plot-creep', f => [...f.chart.series.keys()].filter(n => /^run #/.test(n)).length);
+  check(runOverlay === modelRows && creepOverlay === 2, `a finished run is overlaid on another run's plots (${runOverlay} q points, ${creepOverlay} creep stages)`);
+  const fittedScheme = fittedRun ? (await (await fetch(`${base}/schemes/${(await (await fetch(`${base}/runs/${fittedRun}`)).json()).scheme_id}`)).json()).scheme : {};
+  check(Math.abs((fittedScheme.micro?.normal_modulus_MPa ?? 0) - 120) < 1e-6 && fittedScheme.micro?.friction === 0.45 && fittedScheme.effects?.rolling_resistance === true,
+    `"run with these parameters" submits the scheme with the fitted values (run #${fittedRun}: ${fittedScheme.micro?.normal_modulus_MPa} MPa, μ ${fittedScheme.micro?.friction}, rolling ${fittedScheme.micro?.rolling_friction})`);
   await page.unrouteAll();
-  await page.screenshot({ path: path.join(shots, '06_diagnosis_panel.png'), fullPage: true });
 
   // ---- 6. paged lists: the datasets table shows one page (50) and a "more" control ------
   const tinyCsv = 'confining_kPa,axial_strain_pct,q_kPa\n100,0.5,80\n100,1,120\n';
@@ -348,8 +652,9 @@ try {
   check(compareSets.length === total && compareSets.some(([v]) => Number(v) === labId),
     `the compare dataset picker offers all ${total} datasets, the oldest (#${labId}) too (${compareSets.length})`);
   const runTotal = (await (await fetch(`${base}/runs?limit=1`)).json()).total;
-  check(runTotal > 50 && compareRuns.length === runTotal && compareRuns.some(([v]) => Number(v) === runId),
-    `the compare run picker offers all ${runTotal} runs, the finished run #${runId} too (${compareRuns.length})`);
+  const doneTotal = (await (await fetch(`${base}/runs?status=done&limit=500`)).json()).runs.length;
+  check(runTotal > 50 && compareRuns.length === doneTotal && compareRuns.some(([v]) => Number(v) === runId),
+    `the compare run picker offers the ${doneTotal} finished of all ${runTotal} runs, #${runId} behind the newest 50 too (${compareRuns.length})`);
   const activityShows = id => page.waitForFunction(n => new RegExp(`run #${n}\\b`).test(document.querySelector('#activity')?.textContent || ''),
     id, { timeout: 5000 }).then(() => true, () => false);
   check(await activityShows(longRun), `the activity line shows run #${longRun}, active behind ${runTotal - longRun} newer runs`);

@@ -10,6 +10,8 @@ triaxd="${1:?usage: run.sh <path-to-triaxd>}"
 [[ -x "$triaxd" ]] || { echo "run.sh: triaxd not executable: $triaxd" >&2; exit 2; }
 [[ -d "$here/node_modules/playwright-core" ]] || {
   echo "run.sh: playwright-core missing in $here/node_modules (run scripts/install-deps.sh)" >&2; exit 2; }
+[[ -d "$here/../../web/node_modules/uplot" && -d "$here/../../web/node_modules/three" ]] || {
+  echo "run.sh: the page's packages are missing in web/node_modules (run scripts/install-deps.sh)" >&2; exit 2; }
 [[ -x /usr/bin/chromium ]] || { echo "run.sh: /usr/bin/chromium missing (Debian package chromium)" >&2; exit 2; }
 
 work="$(mktemp -d -t triax-web-XXXXXX)"

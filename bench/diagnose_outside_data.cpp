@@ -1,0 +1,110 @@
+// The DEM diagnosis on lab curves this engine did not make: a hyperbolic (Duncan-Chang)
+// hardening law with a Rowe-type dilatancy at three confining pressures, read to 15 %
+// axial strain with noise, as a lab engineer's weak cohesionless fill would look:
+//   q(eps) = eps / (1 / E_i + eps / q_ult),  q_ult = q_f / R_f,  q_f from phi (c = 0),
+//   E_i = K p_a (sigma3 / p_a)^n,  eps_v = contraction to eps_pt, then dilation at psi.
+// Cases: plain, plain + seating 0.3 %, plain + a stick-slip oscillation of q (outside any
+// catalog). Prints per case the outcome, the verdict, NRMSE before/after, unreached readings,
+// runs, and wall time.
+// Usage: diagnose_outside_data [case=all|plain|seating|outside] [budget=12] [refine=3]
+//        [grains=200] [concurrency=2] [noise_seeds=3]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <random>
+#include <string>
+
+#include "engine/diagnose/diagnosis.hpp"
+#include "engine/protocol/test_scheme.hpp"
+#include "server/io/diagnosis_verdict.hpp"
+
+using namespace triax::diagnose;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+LabDataset hyperbolic_lab(double seating, double oscillation, unsigned seed) {
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> nd(0.0, 1.0);
+    const double phi = 31.0 * kPi / 180.0, rf = 0.9, K = 300.0, n = 0.5, pa = 101.325e3;
+    const double psi = 6.0 * kPi / 180.0, eps_pt = 0.03;
+    LabDataset lab;
+    lab.name = "hyperbolic fill";
+    for (double s3 : {50e3, 100e3, 200e3}) {
+        LabCurve c;
+        c.kind = CurveKind::Shear;
+        c.confining_pa = s3;
+        const double qf = 2.0 * s3 * std::sin(phi) / (1.0 - std::sin(phi));
+        const double qult = qf / rf, Ei = K * pa * std::pow(s3 / pa, n);
+        for (int i = 0; i <= 60; ++i) {
+            const double e = 0.0025 * i;
+            const double es = std::max(0.0, e - seating);  // the platen closes its gap first
+            double q = es / (1.0 / Ei + es / qult);
+            q *= 1.0 + oscillation * std::sin(2 * kPi * e / 0.03);
+            const double rate = 2.0 * std::sin(psi) / (1.0 - std::sin(psi));
+            const double ev = es < eps_pt ? 0.3 * es * (1.0 - es / (2.0 * eps_pt)) : 0.15 * eps_pt - rate * (es - eps_pt);
+            c.axial_strain.push_back(e);
+            c.deviator_pa.push_back(q + 0.01 * qf * nd(rng));
+            c.volumetric_strain.push_back(ev + 2e-4 * nd(rng));
+        }
+        lab.curves.push_back(std::move(c));
+    }
+    return lab;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::map<std::string, std::string> kv{{"case", "all"}, {"budget", "12"}, {"refine", "3"},
+                                          {"grains", "200"}, {"concurrency", "2"}, {"noise_seeds", "3"}};
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const auto eq = a.find('=');
+        if (eq == std::string::npos || !kv.count(a.substr(0, eq))) {
+            std::fprintf(stderr, "unknown argument '%s'\n", a.c_str());
+            return 2;
+        }
+        kv[a.substr(0, eq)] = a.substr(eq + 1);
+    }
+    DiagnoseOptions opt;
+    opt.budget_runs = std::atoi(kv["budget"].c_str());
+    opt.refine_runs = std::atoi(kv["refine"].c_str());
+    opt.max_effects = 1;
+    opt.max_candidates = 2;
+    opt.concurrency = std::atoi(kv["concurrency"].c_str());
+    opt.max_particles = std::atoi(kv["grains"].c_str());
+    opt.noise_seeds = std::atoi(kv["noise_seeds"].c_str());
+    opt.finite_difference_uncertainty = false;
+    triax::protocol::TestScheme scheme;  // the default scheme: the diagnosis takes the catalog out
+    scheme.specimen.diameter_m = 0.05;
+    scheme.specimen.height_m = 0.1;
+    scheme.gradation.r_min_m = 2.5e-3;
+    scheme.gradation.radius_ratio = 3.0;
+    struct Case {
+        const char* name;
+        double seating, oscillation;
+    };
+    const Case cases[] = {{"plain", 0.0, 0.0}, {"seating", 0.003, 0.0}, {"outside", 0.0, 0.15}};
+    for (const auto& c : cases) {
+        if (kv["case"] != "all" && kv["case"] != c.name) continue;
+        const LabDataset lab = hyperbolic_lab(c.seating, c.oscillation, 5);
+        DiagnoseObserver quiet;
+        const auto t0 = std::chrono::steady_clock::now();
+        try {
+            const auto r = run_diagnosis(lab, scheme, opt, quiet);
+            const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            std::printf("%-8s outcome %-16s chosen %-22s NRMSE %.1f %% -> %.1f %%  unreached %zu -> %zu  runs %d  wall %.0f s\n",
+                        c.name, std::string(outcome_name(r.outcome)).c_str(), r.chosen_effect.c_str(), 100 * r.nrmse_before,
+                        100 * r.nrmse_after, r.unreached_before, r.unreached_after, r.runs_used, wall);
+            std::printf("         %s\n", triax::io::diagnosis_verdict(r).c_str());
+            for (const auto& p : r.parameters) std::printf("         %s = %.4g %s\n", p.name.c_str(), p.value, p.unit.c_str());
+        } catch (const std::exception& e) {
+            std::printf("%-8s failed: %s\n", c.name, e.what());
+        }
+        std::fflush(stdout);
+    }
+    return 0;
+}

@@ -1,0 +1,90 @@
+#include "engine/protocol/imported_packing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <unordered_map>
+
+#include "engine/protocol/test_scheme.hpp"
+
+namespace triax::protocol {
+
+namespace {
+
+std::string where(const ImportedPacking& p, std::size_t q) {
+    const std::string src = p.source.empty() ? "packing" : p.source;
+    if (q < p.line.size() && p.line[q] > 0) return src + " line " + std::to_string(p.line[q]);
+    return src + " grain " + std::to_string(q + 1);
+}
+
+std::string pct(double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g %%", 100.0 * x);
+    return b;
+}
+
+std::string mm(double x) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.6g mm", 1e3 * x);
+    return b;
+}
+
+}  // namespace
+
+void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const PackingTolerance& tol) {
+    const std::size_t n = p.size();
+    if (n == 0) throw InputError((p.source.empty() ? std::string("packing") : p.source) + ": no grains");
+    if (p.radius.size() != n) throw InputError("packing: " + std::to_string(n) + " positions but " +
+                                               std::to_string(p.radius.size()) + " radii");
+    const double R = 0.5 * scheme.specimen.diameter_m, H = scheme.specimen.height_m;
+    double r_max = 0.0;
+    for (std::size_t q = 0; q < n; ++q) {
+        const Vec3& x = p.position[q];
+        const double r = p.radius[q];
+        if (!std::isfinite(r) || r <= 0.0) throw InputError(where(p, q) + ": radius must be positive and finite");
+        if (!x.allFinite()) throw InputError(where(p, q) + ": position is not a finite number");
+        const double slack = tol.outside * r;
+        const double rho = std::hypot(x.x(), x.y());
+        // Radially the boundary is the membrane: a grain may sit in the gap between its
+        // spheres (generated specimens do), but its centre must be inside the specimen.
+        if (rho > R)
+            throw InputError(where(p, q) + ": grain outside the specimen: its centre is at radius " + mm(rho) +
+                             " > specimen radius " + mm(R) + " (specimen.diameter_mm; axis z through the origin)");
+        if (x.z() - r < -0.5 * H - slack || x.z() + r > 0.5 * H + slack)
+            throw InputError(where(p, q) + ": grain outside the specimen: z from " + mm(x.z() - r) + " to " +
+                             mm(x.z() + r) + " leaves [" + mm(-0.5 * H) + ", " + mm(0.5 * H) +
+                             "] (specimen.height_mm; centred at the origin)");
+        r_max = std::max(r_max, r);
+    }
+    // Pairs through a uniform grid of cells 2 r_max wide: each grain meets the 27 cells around it.
+    const double cell = 2.0 * r_max;
+    auto key = [](long a, long b, long c) {
+        return (static_cast<std::uint64_t>(a & 0x1FFFFF) << 42) | (static_cast<std::uint64_t>(b & 0x1FFFFF) << 21) |
+               static_cast<std::uint64_t>(c & 0x1FFFFF);
+    };
+    auto idx = [&](double v) { return static_cast<long>(std::floor(v / cell)); };
+    std::unordered_map<std::uint64_t, std::vector<std::size_t>> grid;
+    for (std::size_t q = 0; q < n; ++q)
+        grid[key(idx(p.position[q].x()), idx(p.position[q].y()), idx(p.position[q].z()))].push_back(q);
+    for (std::size_t q = 0; q < n; ++q) {
+        const long cx = idx(p.position[q].x()), cy = idx(p.position[q].y()), cz = idx(p.position[q].z());
+        for (long a = cx - 1; a <= cx + 1; ++a)
+            for (long b = cy - 1; b <= cy + 1; ++b)
+                for (long c = cz - 1; c <= cz + 1; ++c) {
+                    auto it = grid.find(key(a, b, c));
+                    if (it == grid.end()) continue;
+                    for (std::size_t o : it->second) {
+                        if (o >= q) continue;
+                        const double r_small = std::min(p.radius[q], p.radius[o]);
+                        const double overlap = p.radius[q] + p.radius[o] - (p.position[q] - p.position[o]).norm();
+                        if (overlap > tol.overlap * r_small)
+                            throw InputError(where(p, q) + ": grain overlaps the grain of " + where(p, o) + " by " +
+                                             pct(overlap / r_small) + " of the smaller radius (tolerance " +
+                                             pct(tol.overlap) + ")");
+                    }
+                }
+    }
+}
+
+}  // namespace triax::protocol

@@ -1,0 +1,49 @@
+#pragma once
+// ImportedPacking: grains made elsewhere (another DEM code, a CT scan, an earlier run's
+// export) that become the specimen of a scheme: generation is skipped, the membrane and
+// the platens are built around them from the scheme's geometry and the protocol runs from
+// there (Specimen's constructor). Plain data; the parsers live in server/io/packing_*.cpp.
+//
+// SI units (m, m/s, rad/s). Only grains are listed: membrane particles and platens of a
+// file are rebuilt from the scheme, not imported.
+#include <string>
+#include <vector>
+
+#include "engine/core/types.hpp"
+
+namespace triax::protocol {
+
+struct TestScheme;
+
+struct ImportedPacking {
+    std::string source;                  // file name or "upload", for messages
+    std::vector<Vec3> position;          // m, specimen axis z, centre at the origin
+    std::vector<double> radius;          // m
+    std::vector<int> line;               // where each grain was read (1-based line; 0 = unknown)
+    // Residual velocities of an exported equilibrium state (empty = at rest): with them an
+    // export re-imported continues exactly as the run it came from.
+    std::vector<Vec3> velocity;          // m/s
+    std::vector<Vec3> angular_velocity;  // rad/s
+    // The platens' last reading (N, compression positive; bottom, top) of an exported state:
+    // the consolidation servo's first command reads it (empty = none, the platens start unloaded).
+    std::vector<double> platen_force_n;
+
+    std::size_t size() const { return position.size(); }
+};
+
+// Tolerances of validate_packing, as fractions of the smaller radius of a pair.
+struct PackingTolerance {
+    // A grain pair may overlap by at most this x r_min of the pair. Radius expansion locks
+    // overlaps of a few per cent (over 10 % in a 40-grain specimen) into generated packings;
+    // a radius written as a diameter, or a wrong unit, gives 100 % and more.
+    double overlap = 0.25;
+    double outside = 0.05;   // a grain may cross a platen by this x its radius (its centre must be inside the cylinder)
+};
+
+// Checks the packing against the scheme's specimen (a cylinder of diameter D and height H,
+// axis z, centred at the origin): at least one grain, finite positive radii, no grain
+// outside the cylinder or the platens, no pair overlapping beyond the tolerance. Throws
+// InputError naming the line of the first offending grain (and of its partner).
+void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const PackingTolerance& tol = {});
+
+}  // namespace triax::protocol

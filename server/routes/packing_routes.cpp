@@ -1,0 +1,68 @@
+// POST /packings (a sphere list or the project JSON as the body), GET /packings/{id}: grains
+// made elsewhere that a run starts from (POST /runs with packing_id; docs/packings.md).
+// Eigen before httplib: <resolv.h> (through httplib) defines a macro _res that Eigen uses as a name.
+#include "server/io/packing_formats.hpp"
+#include "server/http/problem.hpp"
+#include "server/service.hpp"
+
+namespace triax::service {
+
+using nlohmann::json;
+
+protocol::ImportedPacking load_packing(Service& s, std::int64_t id) {
+    const auto text = s.db.with([&](Database& db) {
+        auto st = db.prepare("SELECT packing_json FROM packings WHERE id = ?");
+        st.bind_all(id);
+        if (!st.step()) throw not_found("packing " + std::to_string(id) + " does not exist").at_field("/packing_id");
+        return st.text(0);
+    });
+    return io::packing_from_project_json(json::parse(text), "packing " + std::to_string(id));
+}
+
+void register_packing_routes(Service& s) {
+    s.route("POST", "/packings", [&s](const httplib::Request& req, httplib::Response& res) {
+        if (req.body.empty()) throw bad_request("the request body is empty; upload the sphere list or project JSON as the body");
+        std::optional<std::string> units;
+        if (req.has_param("units")) units = req.get_param_value("units");
+        const std::string name = req.has_param("name") ? req.get_param_value("name") : "packing";
+        if (invalid_utf8_at(name) != std::string::npos) throw bad_request("name must be UTF-8 text");
+        protocol::ImportedPacking p;
+        try {
+            p = io::parse_packing(req.body, "upload", units);
+        } catch (const io::PackingParseError& e) {
+            auto err = unprocessable(e.what());
+            if (e.line > 0) err.at(e.line, 1);
+            throw err;
+        }
+        if (p.size() > static_cast<std::size_t>(s.config.max_particles))
+            throw unprocessable("the packing has " + std::to_string(p.size()) + " grains; this service accepts at most " +
+                                std::to_string(s.config.max_particles))
+                .with_limit("grains <= " + std::to_string(s.config.max_particles));
+        const std::string format = req.body.find_first_not_of(" \t\r\n") != std::string::npos &&
+                                           req.body[req.body.find_first_not_of(" \t\r\n")] == '{'
+                                       ? "project"
+                                       : "spheres";
+        const auto created = utc_now();
+        const auto id = s.db.transaction([&](Database& db) {
+            auto ins = db.prepare("INSERT INTO packings(name, format, grains, packing_json, created_at) VALUES (?, ?, ?, ?, ?)");
+            ins.bind_all(name, format, static_cast<long long>(p.size()), io::packing_to_project_json(p).dump(), created);
+            ins.run();
+            return db.last_insert_id();
+        });
+        res.set_header("Location", "/packings/" + std::to_string(id));
+        send_json(res, {{"id", id}, {"name", name}, {"format", format}, {"grains", p.size()}, {"created_at", created}}, 201);
+    });
+    s.route("GET", R"(/packings/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto id = path_id(req);
+        const json out = s.db.with([&](Database& db) {
+            auto st = db.prepare("SELECT id, name, format, grains, packing_json, created_at FROM packings WHERE id = ?");
+            st.bind_all(id);
+            if (!st.step()) throw not_found("packing " + std::to_string(id) + " does not exist");
+            return json{{"id", st.int64(0)},      {"name", st.text(1)},        {"format", st.text(2)},
+                        {"grains", st.int64(3)},  {"created_at", st.text(5)}, {"packing", json::parse(st.text(4))}};
+        });
+        send_json(res, out);
+    });
+}
+
+}  // namespace triax::service
