@@ -98,11 +98,12 @@ Service::Service(ServiceConfig cfg, RunExecutor executor)
       queue(static_cast<std::size_t>(config.workers), static_cast<std::size_t>(config.queue_limit)),
       runs(db, run_events, queue, std::move(executor), config.threads_per_run, config.max_threads_per_run),
       diagnoses(db, diagnosis_events, queue, [this](std::int64_t id) { return load_dataset(*this, id, nullptr); }),
+      ensembles(db, queue, config.threads_per_run, config.max_threads_per_run),
       event_streams(config.max_event_streams),
       guard_(GuardConfig{config.host, config.port, config.allowed_hosts, config.token}) {
     if (auto s = read_json_file(config.schema_dir / "scheme.schema.json")) scheme_schema.emplace(std::move(*s));
     openapi = read_json_file(config.schema_dir / "openapi.json").value_or(json::object());
-    interrupted_at_start = runs.recover_interrupted() + diagnoses.recover_interrupted();
+    interrupted_at_start = runs.recover_interrupted() + diagnoses.recover_interrupted() + ensembles.recover_interrupted();
     backfill_dataset_headers(*this);
     // With --mpi-ranks a diagnosis runs as an mpirun job of the triax CLI (server/scaleout).
     if (config.mpi.enabled())
@@ -205,6 +206,7 @@ void Service::register_routes() {
     register_estimate_routes(*this);
     register_snapshot_routes(*this);
     register_packing_routes(*this);
+    register_ensemble_routes(*this);
     // Last: bodies sent to no route (or with PUT/PATCH) are read under the same cap, then
     // answered 405 (the path has other methods) or 404; cpp-httplib would otherwise read a
     // chunked body whole before finding no handler.
@@ -274,11 +276,13 @@ void Service::stop() {
     shutting_down = true;
     runs.begin_shutdown();
     diagnoses.begin_shutdown();
+    ensembles.begin_shutdown();
     // Jobs first: each running job stops at its next cancel poll and is recorded
     // "interrupted" with its terminal event; queued ones are recorded after the join.
     queue.shutdown();
     runs.recover_interrupted();
     diagnoses.recover_interrupted();
+    ensembles.recover_interrupted();
     // The streams deliver what is stored (the terminal events) and end; then the server.
     run_events.shutdown();
     diagnosis_events.shutdown();

@@ -4,6 +4,7 @@
 // start(); the end-to-end tests start it in-process on an ephemeral port.
 #include "engine/diagnose/lab_data.hpp"
 #include "server/diagnoses/diagnosis_service.hpp"
+#include "server/ensembles/ensemble_service.hpp"
 #include "engine/protocol/test_scheme.hpp"
 #include "server/events/event_log.hpp"
 #include "server/http/request_guard.hpp"
@@ -89,6 +90,7 @@ public:
     JobQueue queue;
     RunService runs;
     DiagnosisService diagnoses;
+    EnsembleService ensembles;
     std::optional<io::JsonSchemaValidator> scheme_schema;  // absent if schema/scheme.schema.json is missing
     nlohmann::json openapi;
     httplib::Server http;
@@ -134,6 +136,7 @@ int backfill_dataset_headers(Service& s);
 void register_estimate_routes(Service& s);
 void register_snapshot_routes(Service& s);
 void register_packing_routes(Service& s);
+void register_ensemble_routes(Service& s);
 
 // Shared helper of scheme and run routes: validates a scheme document (JSON Schema, then
 // the engine's own checks and the service limits) and stores it; returns {"id","scheme"}.

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "engine/protocol/run_observer.hpp"
 #include "engine/protocol/triaxial_test.hpp"
 #include "server/scaleout/wire_format.hpp"
 
@@ -45,32 +46,64 @@ std::string member_task(std::uint64_t seed) {
     return w.take();
 }
 
+namespace {
+
+// A member's result bytes: q_f, strain at failure, the shear curve, then per creep stage
+// its number, stress level, regime flags and translated curve.
+std::string encode_member(const protocol::TestResult& r, std::uint64_t seed) {
+    if (r.shear.empty()) throw std::runtime_error("the run did not shear (seed " + std::to_string(seed) + ")");
+    WireWriter w;
+    w.f64(r.q_failure_pa);
+    w.f64(r.axial_strain_at_failure);
+    std::vector<double> e, q, v;
+    for (const auto& p : r.shear) e.push_back(p.axial_strain), q.push_back(p.q_pa), v.push_back(p.volumetric_strain);
+    w.doubles(e);
+    w.doubles(q);
+    w.doubles(v);
+    w.u64(r.creep_stages.size());
+    for (const auto& st : r.creep_stages) {
+        w.u64(static_cast<std::uint64_t>(st.stage));
+        w.f64(st.stress_level);
+        w.u64((st.accelerating ? 1u : 0u) | (st.converged ? 2u : 0u) | (st.ruptured ? 4u : 0u));
+        std::vector<double> t, a;
+        for (const auto& p : st.translated) t.push_back(p.time_s), a.push_back(p.axial_strain);
+        w.doubles(t);
+        w.doubles(a);
+    }
+    return w.take();
+}
+
+// Passes the caller's cancel poll to the engine; ignores everything else.
+class CancelPoll final : public protocol::RunObserver {
+public:
+    explicit CancelPoll(const std::function<bool()>& poll) : poll_(poll) {}
+    bool cancel_requested() override { return poll_(); }
+
+private:
+    const std::function<bool()>& poll_;
+};
+
+}  // namespace
+
 TaskHandler member_handler(const protocol::TestScheme& scheme) {
     return [scheme](std::string_view task) {
         WireReader rd(task);
         protocol::TestScheme s = scheme;
         s.seed = rd.u64("seed");
-        const auto r = protocol::run_triaxial_test(s);
-        if (r.shear.empty()) throw std::runtime_error("the run did not shear (seed " + std::to_string(s.seed) + ")");
-        WireWriter w;
-        w.f64(r.q_failure_pa);
-        w.f64(r.axial_strain_at_failure);
-        std::vector<double> e, q, v;
-        for (const auto& p : r.shear) e.push_back(p.axial_strain), q.push_back(p.q_pa), v.push_back(p.volumetric_strain);
-        w.doubles(e);
-        w.doubles(q);
-        w.doubles(v);
-        w.u64(r.creep_stages.size());
-        for (const auto& st : r.creep_stages) {
-            w.u64(static_cast<std::uint64_t>(st.stage));
-            w.f64(st.stress_level);
-            w.u64((st.accelerating ? 1u : 0u) | (st.converged ? 2u : 0u) | (st.ruptured ? 4u : 0u));
-            std::vector<double> t, a;
-            for (const auto& p : st.translated) t.push_back(p.time_s), a.push_back(p.axial_strain);
-            w.doubles(t);
-            w.doubles(a);
-        }
-        return w.take();
+        return encode_member(protocol::run_triaxial_test(s), s.seed);
+    };
+}
+
+TaskHandler member_handler(const protocol::TestScheme& scheme, std::function<bool()> cancel_requested) {
+    return [scheme, cancel = std::move(cancel_requested)](std::string_view task) {
+        WireReader rd(task);
+        protocol::TestScheme s = scheme;
+        s.seed = rd.u64("seed");
+        if (cancel()) throw MemberCancelled();
+        CancelPoll observer(cancel);
+        const auto r = protocol::run_triaxial_test(s, observer);
+        if (r.cancelled) throw MemberCancelled();
+        return encode_member(r, s.seed);
     };
 }
 

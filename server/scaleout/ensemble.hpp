@@ -7,6 +7,8 @@
 // the run's own regime flags (engine/protocol/creep_regime.hpp) out, so the members can run
 // on threads or MPI ranks with the same result. Statistics take the members in seed order.
 #include <cstdint>
+#include <functional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -45,6 +47,13 @@ std::vector<std::uint64_t> parse_seed_list(std::string_view text);
 // at the task's seed).
 std::string member_task(std::uint64_t seed);
 TaskHandler member_handler(const protocol::TestScheme& scheme);
+// The same, stopping when `cancel_requested()` turns true: polled before a member starts
+// and between the engine's increments (protocol::RunObserver::cancel_requested). A member
+// so stopped throws MemberCancelled (its TaskResult is not ok).
+struct MemberCancelled : std::runtime_error {
+    MemberCancelled() : std::runtime_error("member cancelled") {}
+};
+TaskHandler member_handler(const protocol::TestScheme& scheme, std::function<bool()> cancel_requested);
 // A task's result read back (a failed task: ok = false with its message).
 EnsembleMember member_from_result(std::uint64_t seed, const TaskResult& result);
 

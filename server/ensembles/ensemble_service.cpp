@@ -1,0 +1,225 @@
+#include "server/ensembles/ensemble_service.hpp"
+
+#include "server/http/problem.hpp"
+#include "server/io/scheme_json.hpp"
+#include "server/scaleout/ensemble.hpp"
+#include "server/scaleout/task_runner.hpp"
+
+namespace triax::service {
+
+using nlohmann::json;
+
+namespace {
+
+const char* kSelect =
+    "SELECT id, scheme_id, name, seeds, status, members_done, members_total, concurrency, created_at, started_at, "
+    "finished_at, error FROM ensembles";
+
+json ensemble_json(Statement& st) {
+    auto opt_text = [&](int c) { return st.is_null(c) ? json(nullptr) : json(st.text(c)); };
+    const auto done = st.int64(5), total = st.int64(6);
+    return {{"id", st.int64(0)},
+            {"scheme_id", st.int64(1)},
+            {"name", st.text(2)},
+            {"seeds", st.text(3)},
+            {"status", st.text(4)},
+            {"members_done", done},
+            {"members_total", total},
+            {"progress_pct", total > 0 ? 100.0 * static_cast<double>(done) / static_cast<double>(total) : 0.0},
+            {"concurrency", st.int64(7)},
+            {"created_at", st.text(8)},
+            {"started_at", opt_text(9)},
+            {"finished_at", opt_text(10)},
+            {"error", opt_text(11)}};
+}
+
+bool terminal(const std::string& status) {
+    return status == "done" || status == "failed" || status == "cancelled" || status == "interrupted";
+}
+
+}  // namespace
+
+EnsembleService::EnsembleService(Database& db, JobQueue& queue, int default_concurrency, int max_concurrency)
+    : db_(db), queue_(queue), default_concurrency_(default_concurrency), max_concurrency_(max_concurrency) {}
+
+int EnsembleService::recover_interrupted() {
+    std::vector<std::int64_t> ids;
+    db_.with([&](Database& db) {
+        auto st = db.prepare("SELECT id FROM ensembles WHERE status IN ('queued', 'running') ORDER BY id");
+        while (st.step()) ids.push_back(st.int64(0));
+    });
+    for (auto id : ids) finish(id, "interrupted", "the service stopped before the ensemble ended; submit it again");
+    return static_cast<int>(ids.size());
+}
+
+json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_text, std::size_t members,
+                             std::optional<int> concurrency) {
+    const int n = concurrency.value_or(default_concurrency_);
+    if (n < 1 || n > max_concurrency_)
+        throw unprocessable("concurrency = " + std::to_string(n) + " is outside [1, " + std::to_string(max_concurrency_) +
+                            "]")
+            .at_field("/concurrency")
+            .with_limit("1 <= concurrency <= " + std::to_string(max_concurrency_));
+    const auto id = db_.transaction([&](Database& db) {
+        auto name = db.prepare("SELECT name FROM schemes WHERE id = ?");
+        name.bind_all(scheme_id);
+        if (!name.step()) throw not_found("scheme " + std::to_string(scheme_id) + " does not exist").at_field("/scheme_id");
+        auto ins = db.prepare(
+            "INSERT INTO ensembles(scheme_id, name, seeds, status, members_total, concurrency, created_at) "
+            "VALUES (?, ?, ?, 'queued', ?, ?, ?)");
+        ins.bind_all(scheme_id, name.text(0), seeds_text, static_cast<std::int64_t>(members), n, utc_now());
+        ins.run();
+        return db.last_insert_id();
+    });
+    auto flag = std::make_shared<std::atomic<bool>>(false);
+    {
+        std::lock_guard lock(mutex_);
+        cancel_flags_[id] = flag;
+    }
+    if (!queue_.try_submit("ensemble:" + std::to_string(id), [this, id, flag] { execute(id, flag); })) {
+        // Nothing of a refused ensemble is kept: the client was told 429 and will retry.
+        db_.transaction([&](Database& db) {
+            auto del = db.prepare("DELETE FROM ensembles WHERE id = ?");
+            del.bind_all(id);
+            del.run();
+        });
+        std::lock_guard lock(mutex_);
+        cancel_flags_.erase(id);
+        throw ApiError(429, "Too Many Requests", "the job queue is full; retry later")
+            .with_limit("queue_limit = " + std::to_string(queue_.limit()));
+    }
+    return {{"id", id}, {"status", "queued"}};
+}
+
+void EnsembleService::cancel(std::int64_t id) {
+    const std::string s = status(id)["status"];
+    if (terminal(s)) throw conflict("ensemble " + std::to_string(id) + " is already " + s);
+    {
+        std::lock_guard lock(mutex_);
+        if (auto it = cancel_flags_.find(id); it != cancel_flags_.end()) it->second->store(true);
+    }
+    if (queue_.withdraw("ensemble:" + std::to_string(id))) finish(id, "cancelled", "cancelled by request before it started");
+}
+
+json EnsembleService::status(std::int64_t id) {
+    return db_.with([&](Database& db) {
+        auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
+        st.bind_all(id);
+        if (!st.step()) throw not_found("ensemble " + std::to_string(id) + " does not exist");
+        auto out = ensemble_json(st);
+        auto r = db.prepare("SELECT summary_json FROM ensemble_results WHERE ensemble_id = ?");
+        r.bind_all(id);
+        out["summary"] = r.step() ? json::parse(r.text(0)) : json(nullptr);
+        return out;
+    });
+}
+
+json EnsembleService::list(const PageRequest& page) {
+    return db_.with([&](Database& db) { return read_page(db, page, "ensembles", kSelect, "id", ensemble_json, "status"); });
+}
+
+std::string EnsembleService::band_csv(std::int64_t id, const std::string& which) {
+    const std::string column = which == "shear_band" ? "shear_band_csv" : which == "creep_band" ? "creep_band_csv" : "";
+    if (column.empty()) throw std::logic_error("no band table '" + which + "'");
+    const std::string state = status(id)["status"];
+    if (state != "done") throw conflict("ensemble " + std::to_string(id) + " is " + state + "; its bands exist once done");
+    return db_.with([&](Database& db) {
+        // `column` is one of two fixed names, never client text.
+        auto st = db.prepare("SELECT " + column + " FROM ensemble_results WHERE ensemble_id = ?");
+        st.bind_all(id);
+        if (!st.step()) throw not_found("ensemble " + std::to_string(id) + " has no stored result");
+        return st.text(0);
+    });
+}
+
+void EnsembleService::begin_shutdown() {
+    shutting_down_ = true;
+    std::lock_guard lock(mutex_);
+    for (auto& [id, flag] : cancel_flags_) flag->store(true);
+}
+
+void EnsembleService::finish(std::int64_t id, const std::string& status, const std::string& detail) {
+    db_.transaction([&](Database& db) {
+        auto up = db.prepare(
+            "UPDATE ensembles SET status = ?, error = ?, finished_at = ? WHERE id = ? AND status IN ('queued', 'running')");
+        up.bind_all(status, detail, utc_now(), id);
+        up.run();
+    });
+    std::lock_guard lock(mutex_);
+    cancel_flags_.erase(id);
+}
+
+void EnsembleService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel) {
+    json scheme_json;
+    std::string seeds_text, name;
+    int concurrency = 1;
+    const bool started = db_.transaction([&](Database& db) {
+        auto up = db.prepare("UPDATE ensembles SET status = 'running', started_at = ? WHERE id = ? AND status = 'queued'");
+        up.bind_all(utc_now(), id);
+        up.run();
+        if (db.changes() == 0) return false;
+        auto q = db.prepare(
+            "SELECT s.scheme_json, e.seeds, e.concurrency, e.name FROM ensembles e JOIN schemes s ON s.id = e.scheme_id "
+            "WHERE e.id = ?");
+        q.bind_all(id);
+        q.step();
+        scheme_json = json::parse(q.text(0));
+        seeds_text = q.text(1);
+        concurrency = static_cast<int>(q.int64(2));
+        name = q.text(3);
+        return true;
+    });
+    if (!started) return;
+    const auto stopped = [&] {
+        finish(id, shutting_down_ ? "interrupted" : "cancelled",
+               shutting_down_ ? "the service stopped during the ensemble; submit it again" : "cancelled by request");
+    };
+    if (cancel->load()) return stopped();
+    try {
+        auto scheme = io::scheme_from_json(scheme_json);
+        // Members run side by side, one engine thread each: `concurrency` threads in all.
+        scheme.threads = 1;
+        const auto seeds = scaleout::parse_seed_list(seeds_text);
+        std::vector<std::string> tasks;
+        for (auto s : seeds) tasks.push_back(scaleout::member_task(s));
+        const auto handler = scaleout::member_handler(scheme, [cancel] { return cancel->load(); });
+        // A member that ran to its end (or failed) counts; one stopped by a cancel does not.
+        const auto on_done = [&](std::size_t) {
+            if (cancel->load()) return;
+            db_.transaction([&](Database& db) {
+                auto up = db.prepare("UPDATE ensembles SET members_done = members_done + 1 WHERE id = ? AND status = 'running'");
+                up.bind_all(id);
+                up.run();
+            });
+        };
+        const auto results = scaleout::run_tasks_in_threads(tasks, handler, concurrency, on_done);
+        if (cancel->load()) return stopped();
+        std::vector<scaleout::EnsembleMember> members;
+        for (std::size_t i = 0; i < seeds.size(); ++i) members.push_back(scaleout::member_from_result(seeds[i], results[i]));
+        const auto summary = scaleout::summarise_ensemble(name, std::move(members));
+        if (summary.ok == 0) {
+            const auto& first = summary.members.front();
+            return finish(id, "failed", "no member ran to its end; seed " + std::to_string(first.seed) + ": " + first.error);
+        }
+        const std::string doc = scaleout::ensemble_to_json(summary, true).dump(), shear = scaleout::shear_band_csv(summary),
+                          creep = scaleout::creep_band_csv(summary);
+        db_.transaction([&](Database& db) {
+            auto up = db.prepare(
+                "UPDATE ensembles SET status = 'done', finished_at = ? WHERE id = ? AND status = 'running'");
+            up.bind_all(utc_now(), id);
+            up.run();
+            if (db.changes() == 0) return;  // finished by someone else (a stop)
+            auto ins = db.prepare(
+                "INSERT INTO ensemble_results(ensemble_id, summary_json, shear_band_csv, creep_band_csv) VALUES (?, ?, ?, ?)");
+            ins.bind_all(id, doc, shear, creep);
+            ins.run();
+        });
+        std::lock_guard lock(mutex_);
+        cancel_flags_.erase(id);
+    } catch (const std::exception& e) {
+        if (cancel->load()) return stopped();
+        finish(id, "failed", e.what());
+    }
+}
+
+}  // namespace triax::service
