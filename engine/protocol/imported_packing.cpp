@@ -37,6 +37,9 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
     if (n == 0) throw InputError((p.source.empty() ? std::string("packing") : p.source) + ": no grains");
     if (p.radius.size() != n) throw InputError("packing: " + std::to_string(n) + " positions but " +
                                                std::to_string(p.radius.size()) + " radii");
+    if ((!p.mass.empty() && p.mass.size() != n) || (!p.inertia.empty() && p.inertia.size() != n))
+        throw InputError("packing: " + std::to_string(n) + " grains but " + std::to_string(p.mass.size()) + " masses and " +
+                         std::to_string(p.inertia.size()) + " moments of inertia (give both for every grain, or neither)");
     const double R = 0.5 * scheme.specimen.diameter_m, H = scheme.specimen.height_m;
     double r_max = 0.0;
     for (std::size_t q = 0; q < n; ++q) {
@@ -44,6 +47,10 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
         const double r = p.radius[q];
         if (!std::isfinite(r) || r <= 0.0) throw InputError(where(p, q) + ": radius must be positive and finite");
         if (!x.allFinite()) throw InputError(where(p, q) + ": position is not a finite number");
+        if (q < p.mass.size() && !(std::isfinite(p.mass[q]) && p.mass[q] > 0.0))
+            throw InputError(where(p, q) + ": mass_kg must be positive and finite");
+        if (q < p.inertia.size() && !(std::isfinite(p.inertia[q]) && p.inertia[q] > 0.0))
+            throw InputError(where(p, q) + ": inertia_kg_m2 must be positive and finite");
         const double slack = tol.outside * r;
         const double rho = std::hypot(x.x(), x.y());
         // Radially the boundary is the membrane: a grain may sit in the gap between its

@@ -27,6 +27,15 @@ struct ImportedPacking {
     // The platens' last reading (N, compression positive; bottom, top) of an exported state:
     // the consolidation servo's first command reads it (empty = none, the platens start unloaded).
     std::vector<double> platen_force_n;
+    // The grains' mass and moment of inertia of an exported state (empty = from the scheme's
+    // grain density and the radius): an exact restart needs the exporting World's own bits.
+    std::vector<double> mass;     // kg
+    std::vector<double> inertia;  // kg m^2
+    // The grain radii an exported specimen's contact stiffness, time step and membrane were
+    // sized from (m; 0 = from `radius`): generated grains grow to their drawn radii only
+    // to the last bits, and the exact restart needs the very sizing.
+    double mean_radius_m = 0.0;
+    double min_radius_m = 0.0;
 
     std::size_t size() const { return position.size(); }
 };

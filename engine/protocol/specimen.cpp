@@ -64,6 +64,11 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
     double rsum = 0.0, rmin = 1e9;
     for (double r : radii) { rsum += r; rmin = std::min(rmin, r); }
     r_mean_ = rsum / soil_count_;
+    // An exported state names the radii its stiffness, time step and membrane were sized
+    // from (the drawn radii; grown grains differ from them in the last bits).
+    if (imported && s.packing->mean_radius_m > 0.0) r_mean_ = s.packing->mean_radius_m;
+    if (imported && s.packing->min_radius_m > 0.0) rmin = s.packing->min_radius_m;
+    r_min_ = rmin;
     mean_diameter_ = 2.0 * r_mean_;
     // Table 3 moduli (docs/parameters.md): kn = pi r_mean E_n / 2 for the mean grain.
     soil_kn_ = 0.5 * kPi * r_mean_ * s.micro.normal_modulus_pa;
@@ -119,6 +124,11 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
         for (std::size_t q = 0; q < s.packing->velocity.size() && q < radii.size(); ++q) p.velocity[q] = s.packing->velocity[q];
         for (std::size_t q = 0; q < s.packing->angular_velocity.size() && q < radii.size(); ++q)
             p.angular_velocity[q] = s.packing->angular_velocity[q];
+        if (s.packing->mass.size() == radii.size() && s.packing->inertia.size() == radii.size())
+            for (std::size_t q = 0; q < radii.size(); ++q) {
+                p.mass[q] = s.packing->mass[q];
+                p.inertia[q] = s.packing->inertia[q];
+            }
         for (std::size_t k = 0; k < s.packing->platen_force_n.size() && k < 2; ++k) {
             auto& wall = world_.plane_wall(static_cast<int>(k));
             wall.force = -s.packing->platen_force_n[k] * wall.normal;

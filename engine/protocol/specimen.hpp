@@ -77,6 +77,10 @@ public:
     double solid_volume() const { return solid_volume_; }
     double porosity() const { return 1.0 - solid_volume_ / volume(); }
     double mean_diameter() const { return mean_diameter_; }
+    // The grain radii the contact stiffness (mean), the time step and the automatic membrane
+    // (smallest) were sized from: the drawn radii, before the growth's rounding (m).
+    double sizing_mean_radius() const { return r_mean_; }
+    double sizing_min_radius() const { return r_min_; }
     double soil_density() const { return soil_density_; }
     double soil_kn() const { return soil_kn_; }
     int soil_count() const { return soil_count_; }
@@ -93,6 +97,7 @@ private:
     std::unique_ptr<boundary::Membrane> membrane_;
     double solid_volume_ = 0.0, mean_diameter_ = 0.0, soil_density_ = 0.0, soil_kn_ = 0.0;
     double r_mean_ = 0.0;
+    double r_min_ = 0.0;  // smallest grain radius the membrane and the time step were sized from
     int soil_count_ = 0;
     std::vector<double> crush_force_;  // N, per soil grain (Weibull strength x d^2)
     bool crushing_on_ = false;

@@ -35,6 +35,8 @@ SpecimenSnapshot snapshot_of_world(const World& w, const std::string& stage, con
     s.group = p.group;
     s.velocity = p.velocity;
     s.angular_velocity = p.angular_velocity;
+    s.mass = p.mass;
+    s.inertia = p.inertia;
     s.density.resize(n);
     s.displacement.assign(n, Vec3::Zero());
     s.rotation.assign(n, Vec3::Zero());
@@ -81,6 +83,8 @@ SpecimenSnapshot snapshot_of(const Specimen& sp, const TestScheme& scheme, const
         s.platens[sp.top_wall()].name = "top";
     }
     s.measurement_spheres = measurement_sphere_layout(scheme, sp.mean_diameter());
+    s.sizing_mean_radius_m = sp.sizing_mean_radius();
+    s.sizing_min_radius_m = sp.sizing_min_radius();
     s.group_names = {"grain", "membrane", "platen"};
     return s;
 }

@@ -44,6 +44,15 @@ struct SpecimenSnapshot {
     std::vector<Vec3> position;           // m
     std::vector<double> radius;           // m
     std::vector<double> density;          // kg/m^3 (true, not density-scaled)
+    // The World's own mass and moment of inertia (true, not density-scaled), kept bit for
+    // bit: a generated grain's mass is its drawn mass times the growth factors, which is not
+    // density x 4/3 pi r^3 to the last bit, and an exact restart needs the very bits.
+    std::vector<double> mass;             // kg
+    std::vector<double> inertia;          // kg m^2
+    // The grain radii the specimen's stiffness, time step and membrane were sized from (m;
+    // 0 = not a triaxial specimen): see ImportedPacking.
+    double sizing_mean_radius_m = 0.0;
+    double sizing_min_radius_m = 0.0;
     std::vector<int> group;               // 0 grain, 1 membrane (specimen.hpp), box groups as the caller's
     std::vector<Vec3> velocity;           // m/s (residual at equilibrium; kept for an exact restart)
     std::vector<Vec3> angular_velocity;   // rad/s

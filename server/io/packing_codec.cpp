@@ -13,7 +13,9 @@ using protocol::SpecimenSnapshot;
 namespace {
 
 constexpr char kMagic[4] = {'T', 'X', 'S', 'N'};
-constexpr std::uint32_t kVersion = 1;
+// Version 2 adds the particles' mass and inertia and the sizing radii (exact restart);
+// version 1 is still read.
+constexpr std::uint32_t kVersion = 2;
 
 class Writer {
 public:
@@ -90,6 +92,8 @@ std::string encode_snapshot(const SpecimenSnapshot& s) {
     w.vecs(s.position);
     w.array(s.radius);
     w.array(s.density);
+    w.array(s.mass);
+    w.array(s.inertia);
     w.array(s.group);
     w.vecs(s.velocity);
     w.vecs(s.angular_velocity);
@@ -116,6 +120,8 @@ std::string encode_snapshot(const SpecimenSnapshot& s) {
     }
     w.pod(static_cast<std::uint32_t>(s.group_names.size()));
     for (const auto& g : s.group_names) w.str(g);
+    w.pod(s.sizing_mean_radius_m);
+    w.pod(s.sizing_min_radius_m);
 
     uLongf packed_size = compressBound(w.bytes.size());
     std::string out(sizeof kMagic + sizeof(std::uint32_t) + sizeof(std::uint64_t) + packed_size, '\0');
@@ -135,7 +141,7 @@ SpecimenSnapshot decode_snapshot(const std::string& bytes) {
         throw std::runtime_error("not a stored triax snapshot");
     std::uint32_t version = 0;
     std::memcpy(&version, bytes.data() + 4, sizeof version);
-    if (version != kVersion) throw std::runtime_error("stored snapshot version " + std::to_string(version) + " is not supported");
+    if (version != 1 && version != kVersion) throw std::runtime_error("stored snapshot version " + std::to_string(version) + " is not supported");
     std::uint64_t raw_size = 0;
     std::memcpy(&raw_size, bytes.data() + 8, sizeof raw_size);
     std::string raw(raw_size, '\0');
@@ -151,6 +157,10 @@ SpecimenSnapshot decode_snapshot(const std::string& bytes) {
     s.position = r.vecs();
     s.radius = r.array<double>();
     s.density = r.array<double>();
+    if (version >= 2) {
+        s.mass = r.array<double>();
+        s.inertia = r.array<double>();
+    }
     s.group = r.array<int>();
     s.velocity = r.vecs();
     s.angular_velocity = r.vecs();
@@ -183,6 +193,10 @@ SpecimenSnapshot decode_snapshot(const std::string& bytes) {
     }
     const auto ng = r.pod<std::uint32_t>();
     for (std::uint32_t k = 0; k < ng; ++k) s.group_names.push_back(r.str());
+    if (version >= 2) {
+        s.sizing_mean_radius_m = r.pod<double>();
+        s.sizing_min_radius_m = r.pod<double>();
+    }
     return s;
 }
 

@@ -173,6 +173,8 @@ json snapshot_project_json(const SpecimenSnapshot& s) {
     P["radius_m"] = s.radius;
     P["group"] = s.group;
     P["density_kg_m3"] = s.density;
+    if (s.mass.size() == s.radius.size()) P["mass_kg"] = s.mass;
+    if (s.inertia.size() == s.radius.size()) P["inertia_kg_m2"] = s.inertia;
     put_vec(P, s.velocity, "vx_m_s", "vy_m_s", "vz_m_s");
     put_vec(P, s.angular_velocity, "wx_rad_s", "wy_rad_s", "wz_rad_s");
     put_vec(P, s.displacement, "dx_m", "dy_m", "dz_m");
@@ -197,7 +199,8 @@ json snapshot_project_json(const SpecimenSnapshot& s) {
     return {{"format", kProjectFormat}, {"version", kProjectVersion}, {"units", "SI"},
             {"stage", s.stage},         {"step", s.step},              {"groups", s.group_names},
             {"particles", P},           {"contacts", C},               {"platens", platens},
-            {"measurement_spheres", spheres}};
+            {"measurement_spheres", spheres}, {"sizing_mean_radius_m", s.sizing_mean_radius_m},
+            {"sizing_min_radius_m", s.sizing_min_radius_m}};
 }
 
 namespace {
@@ -217,6 +220,11 @@ SpecimenSnapshot snapshot_from_project_json(const json& j) {
     SpecimenSnapshot s;
     s.stage = j.value("stage", std::string());
     s.step = j.value("step", 0L);
+    for (const char* key : {"sizing_mean_radius_m", "sizing_min_radius_m"})
+        if (j.contains(key) && !(j[key].is_number() && j[key].get<double>() >= 0.0 && std::isfinite(j[key].get<double>())))
+            throw PackingParseError(std::string("field ") + key + " must be a number >= 0 (m)", 0);
+    s.sizing_mean_radius_m = j.value("sizing_mean_radius_m", 0.0);
+    s.sizing_min_radius_m = j.value("sizing_min_radius_m", 0.0);
     if (j.contains("groups")) s.group_names = j["groups"].get<std::vector<std::string>>();
     const json& P = field(j, "particles", "packing");
     const std::size_t n = field(P, "x_m", "particles").size();
@@ -224,6 +232,8 @@ SpecimenSnapshot snapshot_from_project_json(const json& j) {
     s.radius = column<double>(P, "radius_m", "particles", n);
     s.group = column<int>(P, "group", "particles", n);
     s.density = column<double>(P, "density_kg_m3", "particles", n);
+    s.mass = column<double>(P, "mass_kg", "particles", n, false);
+    s.inertia = column<double>(P, "inertia_kg_m2", "particles", n, false);
     auto opt_vec = [&](const char* a, const char* b, const char* c) {
         auto v = vec_columns(P, a, b, c, "particles", n, false);
         if (v.empty()) v.assign(n, Vec3::Zero());
@@ -273,9 +283,15 @@ protocol::ImportedPacking packing_from_project_json(const json& j, const std::st
         p.radius.push_back(s.radius[k]);
         p.velocity.push_back(s.velocity[k]);
         p.angular_velocity.push_back(s.angular_velocity[k]);
+        if (s.mass.size() == s.particle_count() && s.inertia.size() == s.particle_count()) {
+            p.mass.push_back(s.mass[k]);
+            p.inertia.push_back(s.inertia[k]);
+        }
         p.line.push_back(k < lines.size() ? lines[k] : 0);
     }
     if (p.size() == 0) throw PackingParseError("the project JSON holds no grains (group 0)", 0);
+    p.mean_radius_m = s.sizing_mean_radius_m;
+    p.min_radius_m = s.sizing_min_radius_m;
     if (s.platens.size() == 2 && s.platens[0].name == "bottom" && s.platens[1].name == "top")
         p.platen_force_n = {s.platens[0].normal_force_n, s.platens[1].normal_force_n};
     return p;
@@ -285,11 +301,17 @@ json packing_to_project_json(const protocol::ImportedPacking& p) {
     SpecimenSnapshot s;
     s.stage = "imported";
     s.group_names = {"grain"};
+    s.sizing_mean_radius_m = p.mean_radius_m;
+    s.sizing_min_radius_m = p.min_radius_m;
     const std::size_t n = p.size();
     s.position = p.position;
     s.radius = p.radius;
     s.group.assign(n, 0);
     s.density.assign(n, 0.0);
+    if (p.mass.size() == n && p.inertia.size() == n) {
+        s.mass = p.mass;
+        s.inertia = p.inertia;
+    }
     s.velocity = p.velocity.size() == n ? p.velocity : std::vector<Vec3>(n, Vec3::Zero());
     s.angular_velocity = p.angular_velocity.size() == n ? p.angular_velocity : std::vector<Vec3>(n, Vec3::Zero());
     s.displacement.assign(n, Vec3::Zero());
