@@ -11,15 +11,6 @@
 
 namespace triax::diagnose {
 
-std::string_view outcome_name(Outcome o) {
-    switch (o) {
-        case Outcome::EffectFound: return "effect_found";
-        case Outcome::NoEffectNeeded: return "no_effect_needed";
-        case Outcome::Unexplained: return "unexplained";
-    }
-    return "unexplained";
-}
-
 namespace {
 
 void check_options(const DiagnoseOptions& o) {

@@ -113,7 +113,15 @@ struct BoundHit {
 //                     curve phase) whatever the catalog adds; effects that helped are still
 //                     listed in `effects`.
 enum class Outcome { EffectFound, NoEffectNeeded, Unexplained };
-std::string_view outcome_name(Outcome o);
+// Inline: the report's JSON edge (and its fuzz target) names outcomes without the engine.
+inline std::string_view outcome_name(Outcome o) {
+    switch (o) {
+        case Outcome::EffectFound: return "effect_found";
+        case Outcome::NoEffectNeeded: return "no_effect_needed";
+        case Outcome::Unexplained: return "unexplained";
+    }
+    return "unexplained";
+}
 
 // A residual is unexplained above this multiple of the noise floor's tolerance, and never
 // below kUnexplainedFloor of a lab curve's range pooled (twice both in one curve phase): a
