@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "engine/protocol/triaxial_test.hpp"
+#include "bench/key_value_args.hpp"
 
 using namespace triax::protocol;
 
@@ -32,15 +33,7 @@ std::vector<double> list(const std::string& s) {
 
 int main(int argc, char** argv) {
     std::map<std::string, std::string> kv{{"sigma3_kpa", "100"}, {"seeds", "1,2"}, {"mu", "0.05,0.3"},                                           {"wall_mu", "0.4"}, {"grains", "200"}, {"strain", "0.15"}, {"membrane_k", "2e4"}};
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        const auto eq = a.find('=');
-        if (eq == std::string::npos || !kv.count(a.substr(0, eq))) {
-            std::fprintf(stderr, "unknown argument '%s'\n", a.c_str());
-            return 2;
-        }
-        kv[a.substr(0, eq)] = a.substr(eq + 1);
-    }
+    if (!triax::bench::read_key_values(argc, argv, kv)) return 2;
     const double s3 = 1e3 * std::atof(kv["sigma3_kpa"].c_str());
     std::printf("%8s %6s %6s %5s %9s %7s %9s %11s %11s %8s\n", "memb_k", "mu", "wallmu", "seed", "porosity", "phi_p",
                 "eps_p_%", "q15/q_peak", "max_contr_%", "steps");

@@ -19,6 +19,7 @@
 #include "engine/diagnose/diagnosis.hpp"
 #include "engine/protocol/test_scheme.hpp"
 #include "server/io/diagnosis_verdict.hpp"
+#include "bench/key_value_args.hpp"
 
 using namespace triax::diagnose;
 
@@ -60,15 +61,7 @@ LabDataset hyperbolic_lab(double seating, double oscillation, unsigned seed) {
 int main(int argc, char** argv) {
     std::map<std::string, std::string> kv{{"case", "all"}, {"budget", "12"}, {"refine", "3"},
                                           {"grains", "200"}, {"concurrency", "2"}, {"noise_seeds", "3"}};
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        const auto eq = a.find('=');
-        if (eq == std::string::npos || !kv.count(a.substr(0, eq))) {
-            std::fprintf(stderr, "unknown argument '%s'\n", a.c_str());
-            return 2;
-        }
-        kv[a.substr(0, eq)] = a.substr(eq + 1);
-    }
+    if (!triax::bench::read_key_values(argc, argv, kv)) return 2;
     DiagnoseOptions opt;
     opt.budget_runs = std::atoi(kv["budget"].c_str());
     opt.refine_runs = std::atoi(kv["refine"].c_str());

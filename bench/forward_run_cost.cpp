@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "engine/protocol/triaxial_test.hpp"
+#include "bench/key_value_args.hpp"
 
 namespace {
 
@@ -44,17 +45,7 @@ int main(int argc, char** argv) {
                                           {"d_mm", "50"},        {"h_mm", "100"},      {"r_min_mm", "2.5"},
                                           {"ratio", "3"},        {"mu", "0.3"},        {"tol", "1e-3"},
                                           {"membrane_r_mm", "0"}, {"inertial", "5e-4"}, {"porosity", "0.35"}};
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        const auto eq = a.find('=');
-        if (eq == std::string::npos || !kv.count(a.substr(0, eq))) {
-            std::fprintf(stderr, "unknown argument '%s' (key=value; keys:", a.c_str());
-            for (const auto& [k, v] : kv) std::fprintf(stderr, " %s", k.c_str());
-            std::fprintf(stderr, ")\n");
-            return 2;
-        }
-        kv[a.substr(0, eq)] = a.substr(eq + 1);
-    }
+    if (!triax::bench::read_key_values(argc, argv, kv)) return 2;
     auto num = [&](const char* k) { return std::atof(kv[k].c_str()); };
     triax::protocol::TestScheme base;
     base.name = "forward-run-cost";
