@@ -87,8 +87,7 @@ void DiagnosisService::finish(std::int64_t id, const std::string& status, const 
         else events_.append_in(db, id, "error", {{"status", status}, {"detail", detail}});
     });
     events_.notify();
-    std::lock_guard lock(mutex_);
-    cancel_flags_.erase(id);
+    cancel_flags_.forget(id);
 }
 
 int DiagnosisService::recover_interrupted() {
@@ -112,11 +111,7 @@ json DiagnosisService::submit(std::int64_t dataset_id, const json& request, std:
         events_.append_in(db, new_id, "status", {{"status", "queued"}});
         return new_id;
     });
-    auto flag = std::make_shared<std::atomic<bool>>(false);
-    {
-        std::lock_guard lock(mutex_);
-        cancel_flags_[id] = flag;
-    }
+    const auto flag = cancel_flags_.arm(id);
     if (!queue_.try_submit("diagnosis:" + std::to_string(id), [this, id, flag] { execute(id, flag); })) {
         db_.transaction([&](Database& db) {
             auto del_ev = db.prepare("DELETE FROM diagnosis_events WHERE diagnosis_id = ?");
@@ -126,10 +121,8 @@ json DiagnosisService::submit(std::int64_t dataset_id, const json& request, std:
             del.bind_all(id);
             del.run();
         });
-        std::lock_guard lock(mutex_);
-        cancel_flags_.erase(id);
-        throw ApiError(429, "Too Many Requests", "the job queue is full; retry later")
-            .with_limit("queue_limit = " + std::to_string(queue_.limit()));
+        cancel_flags_.forget(id);
+        throw queue_full(queue_);
     }
     return {{"id", id}, {"status", "queued"}};
 }
@@ -137,10 +130,7 @@ json DiagnosisService::submit(std::int64_t dataset_id, const json& request, std:
 void DiagnosisService::cancel(std::int64_t id) {
     const std::string s = status(id)["status"];
     if (terminal(s)) throw conflict("diagnosis " + std::to_string(id) + " is already " + s);
-    {
-        std::lock_guard lock(mutex_);
-        if (auto it = cancel_flags_.find(id); it != cancel_flags_.end()) it->second->store(true);
-    }
+    cancel_flags_.raise(id);
     if (queue_.withdraw("diagnosis:" + std::to_string(id)))
         finish(id, "cancelled", "cancelled by request before it started", nullptr);
 }
@@ -199,8 +189,7 @@ bool DiagnosisService::exists(std::int64_t id) {
 
 void DiagnosisService::begin_shutdown() {
     shutting_down_ = true;
-    std::lock_guard lock(mutex_);
-    for (auto& [id, flag] : cancel_flags_) flag->store(true);
+    cancel_flags_.raise_all();
 }
 
 void DiagnosisService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel) {

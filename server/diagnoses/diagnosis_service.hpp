@@ -6,6 +6,7 @@
 #include "engine/diagnose/lab_data.hpp"
 #include "server/events/event_log.hpp"
 #include "server/http/paging.hpp"
+#include "server/jobs/cancel_flags.hpp"
 #include "server/jobs/job_queue.hpp"
 #include "server/store/database.hpp"
 
@@ -14,9 +15,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 
 namespace triax::diagnose {
@@ -60,8 +59,7 @@ private:
     EventLog& events_;
     JobQueue& queue_;
     std::function<diagnose::LabDataset(std::int64_t)> load_dataset_;
-    std::mutex mutex_;
-    std::map<std::int64_t, std::shared_ptr<std::atomic<bool>>> cancel_flags_;
+    CancelFlags cancel_flags_;
     std::atomic<bool> shutting_down_{false};
 };
 

@@ -71,11 +71,7 @@ json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_te
         ins.run();
         return db.last_insert_id();
     });
-    auto flag = std::make_shared<std::atomic<bool>>(false);
-    {
-        std::lock_guard lock(mutex_);
-        cancel_flags_[id] = flag;
-    }
+    const auto flag = cancel_flags_.arm(id);
     if (!queue_.try_submit("ensemble:" + std::to_string(id), [this, id, flag] { execute(id, flag); })) {
         // Nothing of a refused ensemble is kept: the client was told 429 and will retry.
         db_.transaction([&](Database& db) {
@@ -83,10 +79,8 @@ json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_te
             del.bind_all(id);
             del.run();
         });
-        std::lock_guard lock(mutex_);
-        cancel_flags_.erase(id);
-        throw ApiError(429, "Too Many Requests", "the job queue is full; retry later")
-            .with_limit("queue_limit = " + std::to_string(queue_.limit()));
+        cancel_flags_.forget(id);
+        throw queue_full(queue_);
     }
     return {{"id", id}, {"status", "queued"}};
 }
@@ -94,10 +88,7 @@ json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_te
 void EnsembleService::cancel(std::int64_t id) {
     const std::string s = status(id)["status"];
     if (terminal(s)) throw conflict("ensemble " + std::to_string(id) + " is already " + s);
-    {
-        std::lock_guard lock(mutex_);
-        if (auto it = cancel_flags_.find(id); it != cancel_flags_.end()) it->second->store(true);
-    }
+    cancel_flags_.raise(id);
     if (queue_.withdraw("ensemble:" + std::to_string(id))) finish(id, "cancelled", "cancelled by request before it started");
 }
 
@@ -134,8 +125,7 @@ std::string EnsembleService::band_csv(std::int64_t id, const std::string& which)
 
 void EnsembleService::begin_shutdown() {
     shutting_down_ = true;
-    std::lock_guard lock(mutex_);
-    for (auto& [id, flag] : cancel_flags_) flag->store(true);
+    cancel_flags_.raise_all();
 }
 
 void EnsembleService::finish(std::int64_t id, const std::string& status, const std::string& detail) {
@@ -145,8 +135,7 @@ void EnsembleService::finish(std::int64_t id, const std::string& status, const s
         up.bind_all(status, detail, utc_now(), id);
         up.run();
     });
-    std::lock_guard lock(mutex_);
-    cancel_flags_.erase(id);
+    cancel_flags_.forget(id);
 }
 
 void EnsembleService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel) {
@@ -214,8 +203,7 @@ void EnsembleService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>
             ins.bind_all(id, doc, shear, creep);
             ins.run();
         });
-        std::lock_guard lock(mutex_);
-        cancel_flags_.erase(id);
+        cancel_flags_.forget(id);
     } catch (const std::exception& e) {
         if (cancel->load()) return stopped();
         finish(id, "failed", e.what());

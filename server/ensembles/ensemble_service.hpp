@@ -7,6 +7,7 @@
 // its 'done' in one transaction. State lives in `ensembles`, the result in
 // `ensemble_results`; a job left queued or running by a killed process is 'interrupted'.
 #include "server/http/paging.hpp"
+#include "server/jobs/cancel_flags.hpp"
 #include "server/jobs/job_queue.hpp"
 #include "server/store/database.hpp"
 
@@ -14,9 +15,7 @@
 
 #include <atomic>
 #include <cstdint>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 
@@ -60,8 +59,7 @@ private:
     Database& db_;
     JobQueue& queue_;
     int default_concurrency_, max_concurrency_;
-    std::mutex mutex_;
-    std::map<std::int64_t, std::shared_ptr<std::atomic<bool>>> cancel_flags_;
+    CancelFlags cancel_flags_;
     std::atomic<bool> shutting_down_{false};
 };
 

@@ -1,5 +1,7 @@
 #include "server/jobs/job_queue.hpp"
 
+#include "server/http/problem.hpp"
+
 #include <algorithm>
 
 namespace triax::service {
@@ -66,6 +68,10 @@ void JobQueue::work() {
         } catch (...) {
         }
     }
+}
+
+ApiError queue_full(const JobQueue& queue, const std::string& detail) {
+    return ApiError(429, "Too Many Requests", detail).with_limit("queue_limit = " + std::to_string(queue.limit()));
 }
 
 }  // namespace triax::service

@@ -14,6 +14,8 @@
 
 namespace triax::service {
 
+struct ApiError;  // server/http/problem.hpp
+
 class JobQueue {
 public:
     JobQueue(std::size_t workers, std::size_t limit);
@@ -47,5 +49,9 @@ private:
     std::size_t limit_;
     bool stopping_ = false;
 };
+
+// The 429 a service answers when try_submit() refuses its job: `detail` for the client,
+// the queue's limit as the limit exceeded.
+ApiError queue_full(const JobQueue& queue, const std::string& detail = "the job queue is full; retry later");
 
 }  // namespace triax::service

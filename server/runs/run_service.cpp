@@ -70,11 +70,7 @@ json RunService::submit(std::int64_t scheme_id, std::optional<int> threads, std:
         events_.append_in(db, run_id, "status", {{"status", "queued"}});
         return run_id;
     });
-    auto flag = std::make_shared<std::atomic<bool>>(false);
-    {
-        std::lock_guard lock(mutex_);
-        cancel_flags_[id] = flag;
-    }
+    const auto flag = cancel_flags_.arm(id);
     if (!queue_.try_submit("run:" + std::to_string(id), [this, id, flag] { execute(id, flag); })) {
         // Nothing of a refused run is kept: the client was told 429 and will retry.
         db_.transaction([&](Database& db) {
@@ -85,11 +81,8 @@ json RunService::submit(std::int64_t scheme_id, std::optional<int> threads, std:
             del.bind_all(id);
             del.run();
         });
-        std::lock_guard lock(mutex_);
-        cancel_flags_.erase(id);
-        throw ApiError(429, "Too Many Requests",
-                       "the run queue is full (" + std::to_string(queue_.limit()) + " waiting runs); retry later")
-            .with_limit("queue_limit = " + std::to_string(queue_.limit()));
+        cancel_flags_.forget(id);
+        throw queue_full(queue_, "the run queue is full (" + std::to_string(queue_.limit()) + " waiting runs); retry later");
     }
     return {{"id", id}, {"status", "queued"}};
 }
@@ -98,12 +91,7 @@ void RunService::cancel(std::int64_t id) {
     const auto st = status(id);
     const std::string s = st["status"];
     if (terminal(s)) throw conflict("run " + std::to_string(id) + " is already " + s);
-    std::shared_ptr<std::atomic<bool>> flag;
-    {
-        std::lock_guard lock(mutex_);
-        if (auto it = cancel_flags_.find(id); it != cancel_flags_.end()) flag = it->second;
-    }
-    if (flag) flag->store(true);
+    cancel_flags_.raise(id);
     if (queue_.withdraw("run:" + std::to_string(id))) finish(id, "cancelled", "cancelled by request before it started");
 }
 
@@ -196,8 +184,7 @@ void RunService::finish(std::int64_t id, const std::string& status, const std::s
         events_.append_in(db, id, "error", {{"status", status}, {"detail", detail}});
     });
     events_.notify();
-    std::lock_guard lock(mutex_);
-    cancel_flags_.erase(id);
+    cancel_flags_.forget(id);
 }
 
 void RunService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel) {
@@ -280,8 +267,7 @@ void RunService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> can
             events_.append_in(db, id, "done", {{"status", "done"}});
         });
         events_.notify();
-        std::lock_guard lock(mutex_);
-        cancel_flags_.erase(id);
+        cancel_flags_.forget(id);
     } catch (const RunCancelled&) {
         finish(id, shutting_down_ ? "interrupted" : "cancelled",
                shutting_down_ ? "the service stopped during the run; re-run it" : "cancelled by request");
@@ -292,8 +278,7 @@ void RunService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> can
 
 void RunService::begin_shutdown() {
     shutting_down_ = true;
-    std::lock_guard lock(mutex_);
-    for (auto& [id, flag] : cancel_flags_) flag->store(true);
+    cancel_flags_.raise_all();
 }
 
 }  // namespace triax::service

@@ -5,14 +5,13 @@
 // so the row and the stream never disagree, even after kill -9.
 #include "server/events/event_log.hpp"
 #include "server/http/paging.hpp"
+#include "server/jobs/cancel_flags.hpp"
 #include "server/jobs/job_queue.hpp"
 #include "server/runs/run_executor.hpp"
 #include "server/store/database.hpp"
 
 #include <atomic>
-#include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 
 namespace triax::service {
@@ -57,8 +56,7 @@ private:
     JobQueue& queue_;
     RunExecutor executor_;
     int default_threads_, max_threads_;
-    std::mutex mutex_;
-    std::map<std::int64_t, std::shared_ptr<std::atomic<bool>>> cancel_flags_;
+    CancelFlags cancel_flags_;
     std::atomic<bool> shutting_down_{false};
 };
 
