@@ -250,13 +250,13 @@ Fit DiagnosisDriver::settle_artefacts(Fit current) {
 
 namespace {
 
-// Pooled NRMSE over the readings the model reached (a residual of exactly 1.0 is the
-// penalty of an unreached reading: residuals.hpp) and the count of the others.
+// Pooled NRMSE over the readings the model reached (residuals.hpp: is_unreached) and the
+// count of the others.
 std::pair<double, std::size_t> reached_nrmse(const std::vector<double>& r) {
     double ss = 0.0;
     std::size_t n = 0, unreached = 0;
     for (double x : r) {
-        if (x == 1.0) {
+        if (is_unreached(x)) {
             ++unreached;
             continue;
         }

@@ -122,11 +122,7 @@ void ModelEvaluator::run_missing(const std::vector<ModelPoint>& points, const st
         }
     }
     if (requests.empty()) return;
-    auto done = [this](std::size_t) {
-        const int n = ++runs_;
-        if (on_run_) on_run_(n);
-    };
-    auto out = batch_.run(model_, requests, done);
+    auto out = batch_.run(model_, requests, [this](std::size_t) { count_run(); });
     // One retry per failed run, on another packing: a particle escaping the box or a shear
     // that never starts is a property of that packing at those parameters, not of the
     // parameters alone (seen on 150-grain specimens of preset B).
@@ -141,7 +137,7 @@ void ModelEvaluator::run_missing(const std::vector<ModelPoint>& points, const st
     }
     if (!again.empty()) {
         retried_ += static_cast<int>(again.size());
-        const auto second = batch_.run(model_, again, done);
+        const auto second = batch_.run(model_, again, [this](std::size_t) { count_run(); });
         for (std::size_t k = 0; k < second.size(); ++k) {
             if (second[k].ok) out[again_at[k]] = second[k];
             else if (second[k].error == DiagnosisCancelled{}.what()) throw DiagnosisCancelled{};
@@ -244,11 +240,7 @@ std::vector<std::vector<double>> ModelEvaluator::replicates(const Variant& v, co
     const ModelPoint p = physical_point(v, u, key);
     std::vector<SimulationRequest> requests;
     for (std::uint64_t s : seeds) requests.push_back({p, s});
-    auto done = [this](std::size_t) {
-        const int n = ++runs_;
-        if (on_run_) on_run_(n);
-    };
-    const auto out = batch_.run(model_, requests, done);
+    const auto out = batch_.run(model_, requests, [this](std::size_t) { count_run(); });
     std::vector<std::vector<double>> r(out.size());
     for (std::size_t i = 0; i < out.size(); ++i) {
         if (!out[i].ok && out[i].error == DiagnosisCancelled{}.what()) throw DiagnosisCancelled{};

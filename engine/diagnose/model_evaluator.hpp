@@ -71,6 +71,11 @@ public:
     void on_run(std::function<void(int)> f) { on_run_ = std::move(f); }
 
 private:
+    // One engine-batch run finished: the count and the driver's progress.
+    void count_run() {
+        const int n = ++runs_;
+        if (on_run_) on_run_(n);
+    }
     ModelPoint physical_point(const Variant& v, const UnitPoint& u, std::vector<double>& key) const;
     // Runs every point of `points` not in the cache (with one retry); fills the cache.
     void run_missing(const std::vector<ModelPoint>& points, const std::vector<std::vector<double>>& keys);

@@ -155,7 +155,7 @@ std::vector<double> normalised_residual(const std::vector<ResidualSeries>& layou
             }
         }
         for (std::size_t i = 0; i < s.x.size(); ++i)
-            r.push_back(std::isfinite(model[i]) ? (model[i] - s.lab[i]) / s.scale : 1.0);
+            r.push_back(std::isfinite(model[i]) ? (model[i] - s.lab[i]) / s.scale : kUnreachedPenalty);
         if (model_values) model_values->push_back(std::move(model));
     }
     return r;
@@ -184,9 +184,7 @@ std::vector<PhaseError> phase_errors(const std::vector<ResidualSeries>& layout, 
             for (std::size_t i = 0; i < s.x.size(); ++i)
                 if (phase == "all" || s.phase[i] == phase) {
                     const double r = residual[ranges[k].first + i];
-                    // Exactly 1.0 is the penalty of a reading the model did not reach: it
-                    // is counted apart, not as misfit.
-                    if (r == 1.0) {
+                    if (is_unreached(r)) {
                         ++unreached;
                         continue;
                     }

@@ -37,9 +37,14 @@ struct ResidualSeries {
 // dataset has no usable curve (naming what is missing).
 std::vector<ResidualSeries> residual_layout(const LabDataset& lab);
 
-// Normalised residuals (model - lab) / scale, stacked in layout order. A reading the model
-// does not reach (curve missing, shorter strain or time range, non-finite value) gets the
-// penalty 1.0 (a full lab range), so the vector length never changes between models.
+// The residual of a reading the model does not reach (curve missing, shorter strain or time
+// range, non-finite value): a full lab range, so the vector length never changes between
+// models. Error figures count such readings apart from the misfit (is_unreached).
+inline constexpr double kUnreachedPenalty = 1.0;
+inline bool is_unreached(double normalised_residual) { return normalised_residual == kUnreachedPenalty; }
+
+// Normalised residuals (model - lab) / scale, stacked in layout order; unreached readings
+// get kUnreachedPenalty.
 // If `model_values` is given it receives the model value at each reading (NaN if missing).
 std::vector<double> normalised_residual(const std::vector<ResidualSeries>& layout, const LabDataset& predicted,
                                         std::vector<std::vector<double>>* model_values = nullptr);
