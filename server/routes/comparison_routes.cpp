@@ -60,8 +60,8 @@ json compare(Service& s, std::int64_t run_id, std::int64_t dataset_id) {
                        "; compare a run that is done")
             .at_field("/run_id");
     const auto dataset = load_dataset(s, dataset_id, nullptr);
-    const json& series = (*doc)["series"];
-    const json& summary = (*doc)["summary"];
+    const json& series = doc->at("series");
+    const json& summary = doc->at("summary");
     json curves = json::array(), skipped = json::array(), warnings = json::array();
     const double sigma3_kpa = summary.value("sigma3_kPa", 0.0);
 

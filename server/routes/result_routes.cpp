@@ -24,8 +24,8 @@ SeriesQuery parse_query(const httplib::Request& req) {
 
 // Stored series when the run is done, else rebuilt from its events so far.
 json series_rows(Service& s, std::int64_t id, const SeriesSpec& spec) {
-    if (auto doc = s.runs.result(id); doc && doc->contains("series") && (*doc)["series"].contains(spec.name))
-        return (*doc)["series"][spec.name];
+    if (auto doc = s.runs.result(id); doc && doc->contains("series") && doc->at("series").contains(spec.name))
+        return doc->at("series").at(spec.name);
     return rows_from_events(spec, s.runs.event_data(id, spec.event_type));
 }
 
@@ -59,7 +59,7 @@ void register_result_routes(Service& s) {
         const auto doc = s.runs.result(id);
         if (!doc) throw conflict("run " + std::to_string(id) + " is " + st["status"].get<std::string>() +
                                  "; its summary exists once it is done");
-        json summary = (*doc)["summary"];
+        json summary = doc->at("summary");
         summary["run_id"] = id;
         send_json(res, summary);
     });

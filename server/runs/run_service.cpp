@@ -129,13 +129,16 @@ json RunService::list(const PageRequest& page) {
     return db_.with([&](Database& db) { return read_page(db, page, "runs", kStatusColumns, "r.id", status_row, "r.status"); });
 }
 
-std::optional<json> RunService::result(std::int64_t id) {
-    return db_.with([&](Database& db) -> std::optional<json> {
+ResultCache::Document RunService::result(std::int64_t id) {
+    if (auto doc = results_.find(id)) return doc;
+    auto doc = db_.with([&](Database& db) -> ResultCache::Document {
         auto st = db.prepare("SELECT result_json FROM run_results WHERE run_id = ?");
         st.bind_all(id);
-        if (!st.step()) return std::nullopt;
-        return json::parse(st.text(0));
+        if (!st.step()) return nullptr;
+        return std::make_shared<const json>(json::parse(st.text(0)));
     });
+    if (doc) results_.put(id, doc);  // written once when the run ended: never stale
+    return doc;
 }
 
 std::vector<json> RunService::event_data(std::int64_t id, const std::string& type) {

@@ -7,6 +7,7 @@
 #include "server/http/paging.hpp"
 #include "server/jobs/cancel_flags.hpp"
 #include "server/jobs/job_queue.hpp"
+#include "server/runs/result_cache.hpp"
 #include "server/runs/run_executor.hpp"
 #include "server/store/database.hpp"
 
@@ -36,8 +37,9 @@ public:
     nlohmann::json status(std::int64_t id);  // 404 if unknown
     nlohmann::json list(const PageRequest& page);  // newest first, one page
     bool exists(std::int64_t id);
-    // The stored result document (summary + series) once done.
-    std::optional<nlohmann::json> result(std::int64_t id);
+    // The stored result document (summary + series) once done (nullptr before); parsed once
+    // and kept for the last few runs (result_cache.hpp).
+    ResultCache::Document result(std::int64_t id);
     // Data of every event of `type`, in order (partial series while running).
     std::vector<nlohmann::json> event_data(std::int64_t id, const std::string& type);
     // The stored snapshots of a run, in stage order: [{"stage","grains","membrane_particles","contacts"}].
@@ -57,6 +59,7 @@ private:
     RunExecutor executor_;
     int default_threads_, max_threads_;
     CancelFlags cancel_flags_;
+    ResultCache results_{16};
     std::atomic<bool> shutting_down_{false};
 };
 
