@@ -40,6 +40,11 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     // case from 4.4 % to 11 %, and the effect was no longer named: not adopted
     // (docs/diagnosis.md, section 6).
     if (max_particles > 0) base_.max_particles = max_particles;
+    // No membrane lattice: sigma3 acts on the outermost grains. The bonded membrane's springs
+    // add k eps_r / R of confinement (80 kPa at 10 % radial strain on a 50 mm specimen) and
+    // kept the base above 40 deg at grain friction 0.05; a lab's latex membrane is the
+    // membrane-compliance artefact (docs/diagnosis.md, section 6).
+    base_.specimen.lateral_boundary = protocol::SpecimenSpec::LateralBoundary::GrainPressure;
     // The catalog's effects out of the base (dem_forward_model.hpp).
     auto& m = base_.micro;
     auto& fx = base_.effects;
@@ -135,7 +140,9 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
         {"target_porosity", "-", scheme_.specimen.target_porosity, "the specimen's density as the scheme gives it"},
         {"local_damping", "-", m.local_damping, "quasi-static runs: damping does not set the response"},
         {"wall_friction", "-", m.wall_friction, "rough platens"},
-        {"membrane_stiffness", "N/m", m.membrane_stiffness_n_m, "the DEM membrane (lab membrane effects are the artefact)"},
+        {"membrane_stiffness", "N/m", 0.0,
+         "no membrane in the base: sigma3 acts on the outermost grains (a bonded lattice adds confinement); a lab "
+         "membrane's stiffness is the membrane-compliance artefact"},
         {"bond_friction", "-", m.bond_friction, "the bonds' Mohr-Coulomb friction (strength is calibrated)"},
         {"max_particles", "-", static_cast<double>(base_.max_particles), "the calibration specimen's grain cap (0: the scheme's gradation)"},
     };

@@ -18,7 +18,7 @@ void consolidate_isotropically(Specimen& sp, RunContext& run) {
     const double sigma3 = run.scheme.loading.confining_pressure_pa;
     World& w = sp.world();
     sp.install_test_laws();
-    sp.membrane().set_fixed(w, false);
+    sp.release_lateral_boundary();
     const double dt = w.time_step();
     const PlatenServo servo = PlatenServo::for_specimen(sp);
     run.observer.stage_changed("consolidation", 0, 0.0, 0.0);

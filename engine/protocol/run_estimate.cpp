@@ -54,6 +54,7 @@ Radii grain_radii(const TestScheme& s) {
 }  // namespace
 
 void check_membrane_holds_grains(const TestScheme& s) {
+    if (s.specimen.lateral_boundary == SpecimenSpec::LateralBoundary::GrainPressure) return;
     const double rm = s.micro.membrane_particle_radius_m;
     if (!(rm > 0.0)) return;  // automatic: never smaller than the smallest grain
     const Radii r = grain_radii(s);
@@ -75,7 +76,7 @@ RunEstimate estimate_run(const TestScheme& s) {
     e.grain_max_radius_m = r.max;
     double rm = s.micro.membrane_particle_radius_m;
     if (rm <= 0.0) rm = boundary::automatic_membrane_radius(r.min, r.mean, s.specimen.diameter_m);
-    e.membrane_radius_m = rm;
+    e.membrane_radius_m = s.specimen.lateral_boundary == SpecimenSpec::LateralBoundary::GrainPressure ? 0.0 : rm;
 
     // Time step as Specimen sets it (specimen.cpp).
     const double rho_s = s.specimen.dry_density_kg_m3 / (1.0 - s.specimen.target_porosity);

@@ -99,9 +99,16 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
     }
     for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], shrink * radii[q], soil_density_, kSoilGroup);
 
-    double rm = s.micro.membrane_particle_radius_m;
-    if (rm <= 0.0) rm = boundary::automatic_membrane_radius(rmin, r_mean_, s.specimen.diameter_m);
-    membrane_ = std::make_unique<boundary::Membrane>(world_, R, H, rm, 1000.0, kMembraneGroup);
+    const bool membrane = s.specimen.lateral_boundary == SpecimenSpec::LateralBoundary::BondedMembrane;
+    if (membrane) {
+        double rm = s.micro.membrane_particle_radius_m;
+        if (rm <= 0.0) rm = boundary::automatic_membrane_radius(rmin, r_mean_, s.specimen.diameter_m);
+        membrane_ = std::make_unique<boundary::Membrane>(world_, R, H, rm, 1000.0, kMembraneGroup);
+    } else {
+        grain_pressure_ = std::make_unique<boundary::GrainPressure>(0, soil_count_, R, H, r_mean_);
+        // Generation's container: a rigid cylinder with the grain-membrane law (frictionless).
+        world_.add_cylinder_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), R, H, kMembraneGroup);
+    }
     world_.add_plane_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), kPlatenGroup);
     world_.add_plane_wall(Vec3(0, 0, 0.5 * H), -Vec3::UnitZ(), kPlatenGroup);
     world_.set_domain(Vec3(-3 * R, -3 * R, -1.5 * H), Vec3(3 * R, 3 * R, 1.5 * H));
@@ -115,8 +122,10 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
     const double r_dt = std::max(rmin, 0.2 * r_mean_);
     const double m_dt = soil_density_ * 4.0 / 3.0 * kPi * r_dt * r_dt * r_dt;
     world_.set_time_step(0.5 * std::sqrt(m_dt / soil_kn_));
-    membrane_->bond(world_, 1.0e9);
-    membrane_->set_fixed(world_, true);
+    if (membrane_) {
+        membrane_->bond(world_, 1.0e9);
+        membrane_->set_fixed(world_, true);
+    }
 
     auto& p = world_.particles();
     if (imported) {
@@ -157,12 +166,14 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
 Specimen::Specimen(const Specimen& o)
     : scheme_(o.scheme_),
       world_(o.world_),
-      membrane_(std::make_unique<boundary::Membrane>(*o.membrane_)),
+      membrane_(o.membrane_ ? std::make_unique<boundary::Membrane>(*o.membrane_) : nullptr),
+      grain_pressure_(o.grain_pressure_ ? std::make_unique<boundary::GrainPressure>(*o.grain_pressure_) : nullptr),
       solid_volume_(o.solid_volume_),
       mean_diameter_(o.mean_diameter_),
       soil_density_(o.soil_density_),
       soil_kn_(o.soil_kn_),
       r_mean_(o.r_mean_),
+      r_min_(o.r_min_),
       soil_count_(o.soil_count_),
       crush_force_(o.crush_force_),
       crushing_on_(o.crushing_on_),
@@ -241,7 +252,10 @@ long Specimen::install_soil_bonds() {
 void Specimen::cycle(long n, double confining_pa) {
     poll_cancel();
     for (long done = 0; done < n; done += kMembraneUpdateEvery) {
-        membrane_->apply_pressure(world_, confining_pa);
+        if (membrane_)
+            membrane_->apply_pressure(world_, confining_pa);
+        else
+            grain_pressure_->apply_pressure(world_, confining_pa, bottom_z(), top_z());
         const long m = std::min<long>(kMembraneUpdateEvery, n - done);
         world_.cycle(m);
         const auto& omega = world_.particles().angular_velocity;
@@ -264,7 +278,22 @@ void Specimen::mark_reference() {
 double Specimen::top_z() const { return world_.plane_wall_count() ? const_cast<World&>(world_).plane_wall(1).point.z() : 0.0; }
 double Specimen::bottom_z() const { return const_cast<World&>(world_).plane_wall(0).point.z(); }
 
-double Specimen::volume() const { return membrane_->enclosed_volume(world_, bottom_z(), top_z()); }
+double Specimen::volume() const {
+    return membrane_ ? membrane_->enclosed_volume(world_, bottom_z(), top_z())
+                     : grain_pressure_->enclosed_volume(world_, bottom_z(), top_z());
+}
+
+void Specimen::release_lateral_boundary() {
+    if (membrane_) {
+        membrane_->set_fixed(world_, false);
+        return;
+    }
+    // The cylinder cannot be removed from the world: it is moved to the domain's edge,
+    // beyond any bulge of the test (the domain is 6 radii wide).
+    auto& cylinder = world_.cylinder_wall(0);
+    cylinder.radius = 2.9 * 0.5 * scheme_.specimen.diameter_m;
+    world_.invalidate_neighbors();
+}
 
 double Specimen::top_stress() const {
     const double area = volume() / height();

@@ -6,6 +6,7 @@
 #include <memory>
 #include <random>
 
+#include "engine/boundary/grain_pressure.hpp"
 #include "engine/boundary/membrane.hpp"
 #include "engine/contact/grain_crushing.hpp"
 #include "engine/core/world.hpp"
@@ -39,7 +40,13 @@ public:
 
     World& world() { return world_; }
     const World& world() const { return world_; }
-    boundary::Membrane& membrane() { return *membrane_; }
+    // The bonded membrane; null with the grain-pressure lateral boundary.
+    boundary::Membrane* membrane() { return membrane_.get(); }
+    int membrane_particle_count() const { return membrane_ ? membrane_->count() : 0; }
+    // Frees the lateral boundary held during generation (start of consolidation): the
+    // membrane's spheres are released, or the generation's rigid cylinder is moved clear
+    // and the pressure goes onto the outermost grains.
+    void release_lateral_boundary();
 
     // Switches to the test's contact laws (friction on; bond strength per moisture).
     void install_test_laws();
@@ -51,7 +58,8 @@ public:
     // = strength (Pa) x pi r_min^2 of the pair, scaled by the moisture relation).
     long install_soil_bonds();
 
-    // Cycles n steps, refreshing the membrane follower forces every few steps; crushable
+    // Cycles n steps, refreshing the confining forces (membrane followers, or the outermost
+    // grains') every few steps; crushable
     // contacts are return-mapped after every such chunk.
     // Throws SpecimenCancelled when the cancel check answers true (polled once a call).
     void cycle(long n, double confining_pa);
@@ -71,7 +79,7 @@ public:
     double top_z() const;
     double bottom_z() const;
     double height() const { return top_z() - bottom_z(); }
-    double volume() const;                       // membrane-enclosed, m^3
+    double volume() const;                       // inside the membrane or the grains' envelope, m^3
     double axial_stress() const;                 // mean of both platens, Pa
     double top_stress() const;
     double solid_volume() const { return solid_volume_; }
@@ -94,7 +102,8 @@ private:
 
     TestScheme scheme_;
     World world_;
-    std::unique_ptr<boundary::Membrane> membrane_;
+    std::unique_ptr<boundary::Membrane> membrane_;            // BondedMembrane
+    std::unique_ptr<boundary::GrainPressure> grain_pressure_;  // GrainPressure
     double solid_volume_ = 0.0, mean_diameter_ = 0.0, soil_density_ = 0.0, soil_kn_ = 0.0;
     double r_mean_ = 0.0;
     double r_min_ = 0.0;  // smallest grain radius the membrane and the time step were sized from

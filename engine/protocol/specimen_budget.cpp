@@ -55,6 +55,7 @@ double solid_volume_m3(const TestScheme& s) {
 
 // Membrane lattice of engine/boundary/membrane.cpp for the radius specimen.cpp picks.
 double membrane_count(const TestScheme& s, double grain_min_radius_m, double grain_mean_radius_m) {
+    if (s.specimen.lateral_boundary == SpecimenSpec::LateralBoundary::GrainPressure) return 0.0;
     double rm = s.micro.membrane_particle_radius_m;
     if (rm <= 0.0) rm = boundary::automatic_membrane_radius(grain_min_radius_m, grain_mean_radius_m, s.specimen.diameter_m);
     if (!(rm > 0.0)) return 0.0;

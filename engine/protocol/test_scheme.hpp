@@ -20,6 +20,11 @@ struct SpecimenSpec {
     double target_porosity = 0.35;          // n, Table 3
     double dry_density_kg_m3 = 2055.3;      // 0.93 x 2210 (compaction degree x max dry density)
     double moisture_content = 0.089;        // w as a fraction (8.9 % = optimum, Table 1)
+    // How sigma3 reaches the soil: the paper's bonded-sphere membrane (Fig. 3B), or the
+    // pressure on the outermost grains with no membrane (boundary/grain_pressure.hpp), which
+    // adds no lattice confinement (the diagnosis's base, docs/diagnosis.md section 6).
+    enum class LateralBoundary { BondedMembrane, GrainPressure };
+    LateralBoundary lateral_boundary = LateralBoundary::BondedMembrane;
 };
 
 // One point of a sieve curve: grain size (diameter) and mass percent passing.

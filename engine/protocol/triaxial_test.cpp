@@ -25,7 +25,7 @@ std::unique_ptr<Specimen> generate_specimen(RunContext& run) {
     run.observer.stage_ended("generation", sp->world());
     run.observer.on_snapshot(snapshot_of(*sp, run.scheme, "generation"));
     run.result.particle_count = sp->soil_count();
-    run.result.membrane_particle_count = sp->membrane().count();
+    run.result.membrane_particle_count = sp->membrane_particle_count();
     run.result.initial_porosity = sp->porosity();
     return sp;
 }

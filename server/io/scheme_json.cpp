@@ -225,7 +225,8 @@ TestScheme scheme_from_json(const json& j) {
             bool known = false;
             for (const auto& f : number_fields()) known = known || (sec == f.section && k == f.key);
             for (const auto& f : bool_fields()) known = known || (sec == f.section && k == f.key);
-            known = known || (sec == "gradation" && (k == "kind" || k == "sieve_curve")) ||
+            known = known || (sec == "specimen" && k == "lateral_boundary") ||
+                    (sec == "gradation" && (k == "kind" || k == "sieve_curve")) ||
                     (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition"));
             if (!known) throw SchemeError(ptr(sec, k), "unknown field");
         }
@@ -239,6 +240,12 @@ TestScheme scheme_from_json(const json& j) {
         const auto& v = j[f.section][f.key];
         if (!v.is_boolean()) throw SchemeError(ptr(f.section, f.key), "must be true or false");
         f.ref(s) = v.get<bool>();
+    }
+    if (j.contains("specimen") && j["specimen"].contains("lateral_boundary")) {
+        const auto& b = j["specimen"]["lateral_boundary"];
+        if (b == "bonded_membrane") s.specimen.lateral_boundary = protocol::SpecimenSpec::LateralBoundary::BondedMembrane;
+        else if (b == "grain_pressure") s.specimen.lateral_boundary = protocol::SpecimenSpec::LateralBoundary::GrainPressure;
+        else throw SchemeError("/specimen/lateral_boundary", "must be \"bonded_membrane\" or \"grain_pressure\"");
     }
     if (j.contains("gradation")) {
         const auto& g = j["gradation"];
@@ -298,6 +305,8 @@ json scheme_to_json(const TestScheme& s0) {
     j["max_particles"] = s.max_particles;
     for (const auto& f : number_fields()) j[f.section][f.key] = f.ref(s) / f.to_si;
     for (const auto& f : bool_fields()) j[f.section][f.key] = f.ref(s);
+    j["specimen"]["lateral_boundary"] =
+        s.specimen.lateral_boundary == protocol::SpecimenSpec::LateralBoundary::GrainPressure ? "grain_pressure" : "bonded_membrane";
     j["gradation"]["kind"] = s.gradation.kind == protocol::GradationSpec::Kind::SieveCurve ? "sieve_curve" : "radius_ratio";
     json curve = json::array();
     for (const auto& p : s.gradation.sieve_curve) curve.push_back({{"size_mm", p.size_m * 1e3}, {"passing_pct", p.passing_pct}});

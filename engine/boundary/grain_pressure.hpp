@@ -1,0 +1,54 @@
+#pragma once
+// Stress-controlled lateral boundary without a membrane: the confining pressure acts
+// directly on the outermost grains. The lateral surface is cut into cells (n_theta around,
+// n_z along the current height); in each cell the grain that reaches farthest out (the
+// largest radius rho of its surface within the cell's angles and heights) carries the
+// cell's share of the pressure, F = -p rho dtheta dz u, u the cell's outward radial unit
+// vector, through the grain's centre (no moment). A flexible membrane does the same: it
+// bridges the dips between grains narrower than a cell and touches the grains that stick
+// out. Summed over cells the radial force is p times the envelope's lateral area; a grain
+// that moves out becomes the outermost in its cells and is pushed back, so none escapes,
+// and no lattice adds confinement (the bonded membrane's springs add k eps_r / R,
+// docs/diagnosis.md section 6). Cells are the mean grain radius wide.
+// Axis = z, specimen centred on it. SI units.
+#include <vector>
+
+#include "engine/core/world.hpp"
+
+namespace triax::boundary {
+
+class GrainPressure {
+public:
+    // Grains are the particles [first, first + count); the cells are cell_size_m wide at
+    // the specimen radius.
+    GrainPressure(int first, int count, double specimen_radius_m, double height_m, double cell_size_m);
+
+    // Sets the external force of every grain in the range from the pressure (Pa): the
+    // outermost grains of each cell get that cell's share, the others none. Returns the
+    // total radial force applied (N).
+    double apply_pressure(World& world, double pressure_pa, double z_bottom, double z_top) const;
+
+    // Volume inside the grains' envelope between the platens (m^3): per cell the sector
+    // 0.5 rho^2 dtheta dz; a cell no grain reaches takes its row's mean rho.
+    double enclosed_volume(const World& world, double z_bottom, double z_top) const;
+
+    // Mean envelope radius over the cells (m).
+    double mean_radius(const World& world, double z_bottom, double z_top) const;
+
+    int n_theta() const { return n_theta_; }
+    int n_z() const { return n_z_; }
+
+private:
+    // Calls visit(grain, cell, rho) for every cell a grain reaches into, with the farthest
+    // radius rho (m) its surface reaches within the cell; cells row-major (iz * n_theta + it).
+    template <class Visit>
+    void for_each_reach(const World& world, double z_bottom, double z_top, Visit&& visit) const;
+    // Per cell the farthest radius any grain reaches (m); 0 where none does.
+    std::vector<double> envelope(const World& world, double z_bottom, double z_top) const;
+
+    int first_ = 0, count_ = 0;
+    int n_theta_ = 0, n_z_ = 0;
+    double share_depth_ = 0.0;  // m
+};
+
+}  // namespace triax::boundary
