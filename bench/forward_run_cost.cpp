@@ -7,7 +7,7 @@
 // is one key; run it with and without the lever on the same seeds.
 // Usage: forward_run_cost [key=value ...]
 //   sigma3_kPa=100 strain_pct=15 seeds=1,2,3 d_mm=50 h_mm=100 r_min_mm=2.5 ratio=3 mu=0.3
-//   tol=1e-3 membrane_r_mm=0 inertial=5e-4 porosity=0.35
+//   tol=1e-3 membrane_r_mm=0 inertial=5e-4 porosity=0.35 boundary=membrane|grain_pressure
 // Runs one seed per thread on 2 threads (one OpenMP thread inside each run).
 #include <algorithm>
 #include <atomic>
@@ -44,7 +44,8 @@ int main(int argc, char** argv) {
     std::map<std::string, std::string> kv{{"sigma3_kPa", "100"}, {"strain_pct", "15"}, {"seeds", "1,2,3"},
                                           {"d_mm", "50"},        {"h_mm", "100"},      {"r_min_mm", "2.5"},
                                           {"ratio", "3"},        {"mu", "0.3"},        {"tol", "1e-3"},
-                                          {"membrane_r_mm", "0"}, {"inertial", "5e-4"}, {"porosity", "0.35"}};
+                                          {"membrane_r_mm", "0"}, {"inertial", "5e-4"}, {"porosity", "0.35"},
+                                          {"boundary", "membrane"}};
     if (!triax::bench::read_key_values(argc, argv, kv)) return 2;
     auto num = [&](const char* k) { return std::atof(kv[k].c_str()); };
     triax::protocol::TestScheme base;
@@ -58,6 +59,12 @@ int main(int argc, char** argv) {
     base.micro.bond_normal_strength_pa = 0.0;
     base.micro.bond_shear_strength_pa = 0.0;
     base.micro.membrane_particle_radius_m = num("membrane_r_mm") * 1e-3;
+    if (kv["boundary"] == "grain_pressure")
+        base.specimen.lateral_boundary = triax::protocol::SpecimenSpec::LateralBoundary::GrainPressure;
+    else if (kv["boundary"] != "membrane") {
+        std::fprintf(stderr, "boundary: '%s' is not membrane or grain_pressure\n", kv["boundary"].c_str());
+        return 2;
+    }
     base.effects.moisture_bonding = false;
     base.loading.confining_pressure_pa = num("sigma3_kPa") * 1e3;
     base.loading.max_axial_strain = num("strain_pct") * 1e-2;
@@ -119,7 +126,8 @@ int main(int argc, char** argv) {
             std::fflush(stdout);
         }
     };
-    std::printf("sigma3 %s kPa, %s x %s mm, r_min %s mm x%s, mu %s, tol %s, membrane r %s mm, I %s; q at axial strain (%%):",
+    std::printf("boundary %s, sigma3 %s kPa, %s x %s mm, r_min %s mm x%s, mu %s, tol %s, membrane r %s mm, I %s; q at axial strain (%%):",
+                kv["boundary"].c_str(),
                 kv["sigma3_kPa"].c_str(), kv["d_mm"].c_str(), kv["h_mm"].c_str(), kv["r_min_mm"].c_str(),
                 kv["ratio"].c_str(), kv["mu"].c_str(), kv["tol"].c_str(), kv["membrane_r_mm"].c_str(),
                 kv["inertial"].c_str());

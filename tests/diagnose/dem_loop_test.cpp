@@ -144,6 +144,7 @@ double rmse_of(const DiagnosisReport& r, const std::string& curve) {
 CaseSpec rolling_case() {
     CaseSpec cs;
     cs.hidden = {{Effect::RollingResistance, {0.25}}};
+    cs.confining_pa = {50e3, 200e3};
     return cs;
 }
 
