@@ -126,7 +126,7 @@ export class DiagnosisView {
   // budget + 2 (base + 2) + max_effects (effects + (max_candidates + 1) refine_runs), with
   // the DEM model's 4 base parameters and 4 physical effects: the most it can use. The
   // least: the calibration alone (budget + 2 (base + 2)). Minutes from POST /estimate of
-  // the run's scheme, per DEM run and lab condition.
+  // the run's scheme on the base's grain-pressure boundary, per DEM run and lab condition.
   async estimateCost() {
     const run = this.runs.find(r => String(r.scheme_id) === this.runSelect.value);
     const budget = Number(this.fields.budget_runs.input.value);
@@ -141,6 +141,8 @@ export class DiagnosisView {
         const { scheme } = await getJSON(`/schemes/${run.scheme_id}`);
         const mp = Number(this.fields.max_particles.input.value);
         if (mp > 0) scheme.max_particles = mp;
+        // The diagnosis's base runs without the membrane (dem_forward_model.cpp).
+        scheme.specimen = { ...(scheme.specimen || {}), lateral_boundary: 'grain_pressure' };
         const e = await postJSON('/estimate', scheme);
         const m = e.minutes_estimate;
         parts.push(` · each ≈ ${e.grains} grains, ${rangeText(m.low, m.high)}`,

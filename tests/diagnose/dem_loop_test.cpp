@@ -141,6 +141,8 @@ double rmse_of(const DiagnosisReport& r, const std::string& curve) {
 // to keep two pressures per run in budget: crushing's signal is large against its packing
 // scatter (at 200 kPa, 2 % strain: +1.3 % volumetric strain and -20 % q for x = 0.75, against
 // +-0.2 % and +-12 % between packings; docs/diagnosis.md section 8.7).
+// At 50 and 200 kPa: at 100 kPa alone the calibrated base took the effect up as friction
+// and bond strength (one pressure cannot tell cohesion from interlocking; docs/diagnosis.md 8.3).
 CaseSpec rolling_case() {
     CaseSpec cs;
     cs.hidden = {{Effect::RollingResistance, {0.25}}};
