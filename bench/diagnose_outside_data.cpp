@@ -7,7 +7,9 @@
 // catalog). Prints per case the outcome, the verdict, NRMSE before/after, unreached readings,
 // runs, and wall time.
 // Usage: diagnose_outside_data [case=all|plain|seating|outside] [budget=12] [refine=3]
-//        [grains=200] [concurrency=2] [noise_seeds=3]
+//        [grains=200] [concurrency=2] [noise_seeds=3] [effects=1] [candidates=2]
+// (the service's defaults: budget=24 refine=10 effects=3 candidates=3). Each case also
+// prints the plan (plan_diagnosis: the most model runs the options allow).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +18,7 @@
 #include <random>
 #include <string>
 
+#include "engine/diagnose/dem_forward_model.hpp"
 #include "engine/diagnose/diagnosis.hpp"
 #include "engine/protocol/test_scheme.hpp"
 #include "server/io/diagnosis_verdict.hpp"
@@ -60,13 +63,14 @@ LabDataset hyperbolic_lab(double seating, double oscillation, unsigned seed) {
 
 int main(int argc, char** argv) {
     std::map<std::string, std::string> kv{{"case", "all"}, {"budget", "12"}, {"refine", "3"},
-                                          {"grains", "200"}, {"concurrency", "2"}, {"noise_seeds", "3"}};
+                                          {"grains", "200"}, {"concurrency", "2"}, {"noise_seeds", "3"},
+                                          {"effects", "1"}, {"candidates", "2"}};
     if (!triax::bench::read_key_values(argc, argv, kv)) return 2;
     DiagnoseOptions opt;
     opt.budget_runs = std::atoi(kv["budget"].c_str());
     opt.refine_runs = std::atoi(kv["refine"].c_str());
-    opt.max_effects = 1;
-    opt.max_candidates = 2;
+    opt.max_effects = std::atoi(kv["effects"].c_str());
+    opt.max_candidates = std::atoi(kv["candidates"].c_str());
     opt.concurrency = std::atoi(kv["concurrency"].c_str());
     opt.max_particles = std::atoi(kv["grains"].c_str());
     opt.noise_seeds = std::atoi(kv["noise_seeds"].c_str());
@@ -85,6 +89,8 @@ int main(int argc, char** argv) {
         if (kv["case"] != "all" && kv["case"] != c.name) continue;
         const LabDataset lab = hyperbolic_lab(c.seating, c.oscillation, 5);
         DiagnoseObserver quiet;
+        const DemForwardModel planned(scheme, lab, 1, opt.max_particles);
+        std::printf("%-8s plan: at most %d model runs\n", c.name, plan_diagnosis(lab, planned, opt).model_runs);
         const auto t0 = std::chrono::steady_clock::now();
         try {
             const auto r = run_diagnosis(lab, scheme, opt, quiet);
