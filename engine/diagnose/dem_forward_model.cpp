@@ -2,6 +2,8 @@
 // -> predicted curves (see dem_forward_model.hpp for the parameter mapping).
 #include "engine/diagnose/dem_forward_model.hpp"
 
+#include "engine/diagnose/curve_smoothing.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -276,6 +278,9 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
             sh.deviator_pa.push_back(p.q_pa);
             sh.volumetric_strain.push_back(p.volumetric_strain);
         }
+        // One packing's slip events averaged out, as a lab specimen's many grains do.
+        sh.deviator_pa = smooth_over_relative_strain(sh.axial_strain, sh.deviator_pa);
+        sh.volumetric_strain = smooth_over_relative_strain(sh.axial_strain, sh.volumetric_strain);
         out.curves.push_back(std::move(sh));
         for (const auto& st : r.creep_stages) {
             LabCurve c;
