@@ -40,7 +40,9 @@ struct ContactStore {
     std::vector<double> damage;              // [0, 1], bond corrosion
     std::vector<double> asperity_wear;       // [0, 1), friction loss of the contact
     std::vector<double> creep_slip;          // m, accumulated delayed (creep) slip
-    // Per-step results (slots gathered per particle in a fixed order).
+    // Per-step results (slots gathered per particle in a fixed order). A slot that is not
+    // active holds zero force and torques: the World's gather adds every candidate slot,
+    // so a caller that clears `active` between cycles must clear these three as well.
     std::vector<Vec3> force_on_j;            // N, total contact force on j (on i: minus this)
     std::vector<Vec3> torque_on_i, torque_on_j;  // N m
     std::vector<Vec3> contact_point;         // m

@@ -137,7 +137,7 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
         c.torque_on_i[k].setZero();
         c.torque_on_j[k].setZero();
         c.overlap[k] = 0.0;
-        // Invariant: inactive slots hold zero force (the gather skips them).
+        // Invariant: inactive slots hold zero force and torque (the gather adds them).
     }
     ContactSums sums;
     for (int e = 0; e < n_touching; ++e) {
@@ -346,13 +346,14 @@ void World::particle_block(StepState& st, long b) {
             for (int e = adj_start_[p]; e < adj_start_[p + 1]; ++e) {
                 // Branch-free: the side bit picks the sign of the force and the torque array.
                 const int slot = adj_[e] >> 1, side = adj_[e] & 1;
-                // Inactive slots (candidates not touching) hold zero force and torque
-                // (ball_contacts keeps that invariant): skipping them saves three
-                // scattered loads and leaves the sums bitwise unchanged.
-                if (!c.active[slot]) continue;
+                // Every candidate slot is added: inactive ones hold zero force and torque
+                // (ball_block keeps that invariant, contact_store.hpp), and adding +0 leaves
+                // the sums' bits unchanged (a sum that starts at +0 is never -0, and
+                // x + 0 = x). Whether a slot is active is random from slot to slot: as a
+                // branch here (skipping the inactive ones) it was mispredicted often.
                 f += side_sign[side] * c.force_on_j[slot];
                 t += side_torque[side][slot];
-                if (need_stiffness) {
+                if (need_stiffness && c.active[slot]) {
                     const ContactLaw& l = laws[c.law[slot]];
                     kt += l.kn + l.ks;
                     kr += l.ks * pa.radius[p] * pa.radius[p];
