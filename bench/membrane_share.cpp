@@ -63,7 +63,7 @@ World without_membrane(protocol::Specimen& sp) {
         b.add_plane_wall(w.point, w.normal, w.group);
     }
     const double z0 = sp.bottom_z(), z1 = sp.top_z();
-    const double r_in = sp.membrane().mean_inner_radius(a);
+    const double r_in = sp.membrane()->mean_inner_radius(a);
     b.add_cylinder_wall(Vec3(0, 0, z0), Vec3::UnitZ(), r_in, z1 - z0, protocol::kMembraneGroup);
     b.set_time_step(a.time_step());
     b.set_local_damping(a.local_damping());
@@ -124,7 +124,7 @@ int main(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     protocol::Specimen sp(scheme);
     sp.install_test_laws();
-    sp.membrane().set_fixed(sp.world(), false);
+    sp.release_lateral_boundary();
     const double sigma3 = scheme.loading.confining_pressure_pa;
     sp.cycle(1000, sigma3);  // settle the freed membrane under the confining pressure
     std::printf("group %s %s specimen generated in %.0f s\n", group.c_str(), full ? "full-size" : "reduced",
