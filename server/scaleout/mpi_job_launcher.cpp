@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstring>
 #include <deque>
+#include <vector>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -133,7 +134,11 @@ nlohmann::json run_diagnosis_over_mpi(const MpiLaunchSettings& settings, const s
 
     Child child(mpi_diagnosis_command(settings, dir));
     std::string pending;
-    std::deque<std::string> other;  // the child's last lines that are not progress
+    // The child's lines that are not progress: the first few (a rank's own error comes
+    // first) and the last few (mpirun's summary of how the job ended).
+    std::vector<std::string> first;
+    std::deque<std::string> other;
+    long dropped = 0;
     auto take_line = [&](const std::string& line) {
         if (line.rfind("progress ", 0) == 0) {
             std::istringstream in(line.substr(9));
@@ -152,8 +157,15 @@ nlohmann::json run_diagnosis_over_mpi(const MpiLaunchSettings& settings, const s
                 // not a candidate line after all: kept below
             }
         }
+        if (first.size() < 6) {
+            first.push_back(line);
+            return;
+        }
         other.push_back(line);
-        if (other.size() > 12) other.pop_front();
+        if (other.size() > 12) {
+            other.pop_front();
+            ++dropped;
+        }
     };
     bool open = true;
     int status = 0;
@@ -186,6 +198,8 @@ nlohmann::json run_diagnosis_over_mpi(const MpiLaunchSettings& settings, const s
     std::ifstream report(dir / "report.json");
     if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0) || !report) {
         std::string tail;
+        for (const auto& l : first) tail += (tail.empty() ? "" : " | ") + l;
+        if (dropped > 0) tail += " | (" + std::to_string(dropped) + " lines left out)";
         for (const auto& l : other) tail += (tail.empty() ? "" : " | ") + l;
         throw std::runtime_error("the MPI diagnosis (" + settings.mpirun + " -np " + std::to_string(settings.ranks) +
                                  ") ended with " + describe_status(status) + (tail.empty() ? "" : ": " + tail));
