@@ -62,26 +62,37 @@ std::vector<double> GrainPressure::envelope(const World& world, double z_bottom,
 }
 
 double GrainPressure::apply_pressure(World& world, double pressure_pa, double z_bottom, double z_top) const {
-    const std::vector<double> rho = envelope(world, z_bottom, z_top);
+    // Every (grain, cell, reach) once: the envelope, the shares and the forces all read it.
+    struct Reach {
+        int grain;
+        std::size_t cell;
+        double rho;  // m
+    };
+    std::vector<Reach> reaches;
+    std::vector<double> rho(static_cast<std::size_t>(n_theta_) * n_z_, 0.0);
+    for_each_reach(world, z_bottom, z_top, [&](int q, std::size_t cell, double r) {
+        reaches.push_back({q, cell, r});
+        rho[cell] = std::max(rho[cell], r);
+    });
     // The grains within `share_depth_` of a cell's envelope share its force, weighted
     // 1 - depth / share_depth_: the force moves continuously from grain to grain as they
     // move, instead of jumping to whichever is outermost by a hair (which kept consolidation
     // from settling).
-    auto weight = [&](std::size_t cell, double r) { return std::max(0.0, 1.0 - (rho[cell] - r) / share_depth_); };
+    auto weight = [&](const Reach& r) { return std::max(0.0, 1.0 - (rho[r.cell] - r.rho) / share_depth_); };
     std::vector<double> weight_sum(rho.size(), 0.0);
-    for_each_reach(world, z_bottom, z_top, [&](int, std::size_t cell, double r) { weight_sum[cell] += weight(cell, r); });
+    for (const Reach& r : reaches) weight_sum[r.cell] += weight(r);
     auto& p = world.particles();
     for (int q = first_; q < first_ + count_; ++q) p.external_force[q].setZero();
     const double dth = 2.0 * kPi / n_theta_, dz = (z_top - z_bottom) / n_z_;
     double total = 0.0;
-    for_each_reach(world, z_bottom, z_top, [&](int q, std::size_t cell, double r) {
-        const double w = weight(cell, r);
-        if (w <= 0.0) return;
-        const double th = (static_cast<double>(cell % n_theta_) + 0.5) * dth;
-        const double f = pressure_pa * rho[cell] * dth * dz * w / weight_sum[cell];  // N, the grain's share of the cell
-        p.external_force[q] -= f * Vec3(std::cos(th), std::sin(th), 0.0);
+    for (const Reach& r : reaches) {
+        const double w = weight(r);
+        if (w <= 0.0) continue;
+        const double th = (static_cast<double>(r.cell % n_theta_) + 0.5) * dth;
+        const double f = pressure_pa * rho[r.cell] * dth * dz * w / weight_sum[r.cell];  // N, the grain's share of the cell
+        p.external_force[r.grain] -= f * Vec3(std::cos(th), std::sin(th), 0.0);
         total += f;
-    });
+    }
     return total;
 }
 

@@ -33,6 +33,14 @@ World make_world(const std::vector<test::SphereSpec>& spheres, const std::vector
     return w;
 }
 
+// The lattice world of `seed`, spheres added in their own order, on `threads` threads.
+World lattice_world(int seed, int threads) {
+    const auto spheres = test::lattice_spheres(kSide, kRmin, kRmax, seed);
+    std::vector<int> order(spheres.size());
+    std::iota(order.begin(), order.end(), 0);
+    return make_world(spheres, order, threads);
+}
+
 // The same lattice world built twice, on 1 and on 2 threads (the parallel cases' set-up).
 struct OneAndTwoThreads {
     World one, two;
@@ -132,10 +140,7 @@ TEST_CASE("reordering the particles changes nothing", "[engine][invariant]") {
 }
 
 TEST_CASE("Newton's third law: contact forces sum to minus the wall forces", "[engine][invariant]") {
-    const auto spheres = test::lattice_spheres(kSide, kRmin, kRmax, 5);
-    std::vector<int> order(spheres.size());
-    std::iota(order.begin(), order.end(), 0);
-    World w = make_world(spheres, order, 2);
+    World w = lattice_world(5, 2);
     for (int round = 0; round < 5; ++round) {
         w.cycle(100);
         Vec3 net = Vec3::Zero();
@@ -169,10 +174,7 @@ TEST_CASE("Newton's third law: contact forces sum to minus the wall forces", "[e
 TEST_CASE("inactive contact slots hold zero force and torques (the gather adds every slot)", "[engine][invariant]") {
     // The gather adds every candidate slot of a particle, so a slot that is not active
     // (never touched, or opened since) must hold exact zeros (contact_store.hpp).
-    const auto spheres = test::lattice_spheres(kSide, kRmin, kRmax, 5);
-    std::vector<int> order(spheres.size());
-    std::iota(order.begin(), order.end(), 0);
-    World w = make_world(spheres, order, 2);
+    World w = lattice_world(5, 2);
     for (int round = 0; round < 5; ++round) {
         w.cycle(100);
         const auto& c = w.contacts();
