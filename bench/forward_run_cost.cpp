@@ -119,8 +119,11 @@ int main(int argc, char** argv) {
                 std::snprintf(buf, sizeof buf, " %6.1f", qq / 1e3);
                 line += buf;
             }
-            std::snprintf(buf, sizeof buf, "  ev[%%] at %.0f %%: %.2f", 100 * probes[5], 100 * rows[i].ev.back());
-            line += buf;
+            line += "  ev[%]:";
+            for (double ev : rows[i].ev) {
+                std::snprintf(buf, sizeof buf, " %5.2f", 100 * ev);
+                line += buf;
+            }
             std::lock_guard<std::mutex> lock(io);
             std::printf("%s\n", line.c_str());
             std::fflush(stdout);
@@ -151,6 +154,15 @@ int main(int argc, char** argv) {
     }
     std::printf("\nscatter (CV of q) [%%]:");
     for (double c : cv) std::printf(" %6.1f", 100 * c);
+    std::printf("\nscatter (SD of ev) [%% strain]:");
+    for (std::size_t k = 0; k < std::size(probes); ++k) {
+        double s = 0, s2 = 0;
+        int n = 0;
+        for (const auto& r : rows)
+            if (k < r.ev.size() && std::isfinite(r.ev[k])) s += r.ev[k], s2 += r.ev[k] * r.ev[k], ++n;
+        const double m = n ? s / n : NAN;
+        std::printf(" %6.2f", n > 1 ? 100 * std::sqrt(std::max(0.0, (s2 - n * m * m) / (n - 1))) : NAN);
+    }
     std::vector<double> walls, ps;
     for (const auto& r : rows)
         if (r.wall > 0) walls.push_back(r.wall), ps.push_back(r.psteps);

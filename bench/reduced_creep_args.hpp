@@ -5,7 +5,7 @@
 // Keys: group (A-E: the full-size paper group, given first) h4 (the last stage's hours) A beta sh eps age sw dmax b1 b2 fth
 //       bmu (bond friction) brf (bond rolling friction: the cement neck) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
 //       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio) cbb (1: a crushing contact loses its bond) relax seed dmm rmin_mm
-//       ratio first growth cap threads crush(1 = the paper-group presets' micro-parameters: bonds and
+//       ratio first growth cap threads gp (1: grain-pressure boundary) crush(1 = the paper-group presets' micro-parameters: bonds and
 //       crushable grains) s3(kPa) hours shear (1: no creep) verbose
 #include <cstdio>
 #include <cstdlib>
@@ -87,6 +87,9 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
     else if (k == "h4") a.last_hours = v;
     else if (k == "shear") a.shear_only = v != 0;
     else if (k == "seed") s.seed = static_cast<std::uint64_t>(v);
+    else if (k == "gp")  // 1: the grain-pressure lateral boundary (no membrane), the diagnosis's base
+        s.specimen.lateral_boundary = v != 0 ? protocol::SpecimenSpec::LateralBoundary::GrainPressure
+                                             : protocol::SpecimenSpec::LateralBoundary::BondedMembrane;
     else if (k == "dmm") { s.specimen.diameter_m = v / 1000; s.specimen.height_m = 2 * v / 1000; }
     else if (k == "rmin_mm") s.gradation.r_min_m = v / 1000;
     else if (k == "ratio") s.gradation.radius_ratio = v;

@@ -65,7 +65,7 @@ export function applyParameters(scheme, parameters) {
 // carry them). The browser test sends values just outside them and expects the 422.
 export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53] };
 // The diagnosis's own defaults (engine/diagnose/diagnosis.hpp DiagnoseOptions).
-const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1 };
+const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1, packings_per_run: 2 };
 
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
 const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);
@@ -125,14 +125,17 @@ export class DiagnosisView {
   // Runs as the diagnosis plans them (engine/diagnose/diagnosis.cpp, planned_runs_):
   // budget + 2 (base + 2) + max_effects (effects + (max_candidates + 1) refine_runs), with
   // the DEM model's 4 base parameters and 4 physical effects: the most it can use. The
-  // least: the calibration alone (budget + 2 (base + 2)). Minutes from POST /estimate of
+  // least: the calibration alone (budget + 2 (base + 2)); each times the packings averaged
+  // into a model run. Minutes from POST /estimate of
   // the run's scheme on the base's grain-pressure boundary, per DEM run and lab condition.
   async estimateCost() {
     const run = this.runs.find(r => String(r.scheme_id) === this.runSelect.value);
     const budget = Number(this.fields.budget_runs.input.value);
     const base = 4, physical = 4;
-    const runsAtLeast = budget + 2 * (base + 2);
-    const runsUpTo = runsAtLeast + DEFAULTS.max_effects * (physical + (DEFAULTS.max_candidates + 1) * DEFAULTS.refine_runs);
+    // Each model run is the mean of packings_per_run packings (packing_ensemble.hpp).
+    const runsAtLeast = DEFAULTS.packings_per_run * (budget + 2 * (base + 2));
+    const runsUpTo = runsAtLeast +
+      DEFAULTS.packings_per_run * DEFAULTS.max_effects * (physical + (DEFAULTS.max_candidates + 1) * DEFAULTS.refine_runs);
     this.cost.dataset.runsLow = String(runsAtLeast);
     this.cost.dataset.runsHigh = String(runsUpTo);
     const parts = [el('strong', {}, 'Cost: '), `${runsAtLeast} to ${runsUpTo} DEM runs per lab condition (σ3)`];

@@ -3,6 +3,7 @@
 #include "engine/diagnose/dem_forward_model.hpp"
 
 #include "engine/diagnose/curve_smoothing.hpp"
+#include "engine/diagnose/packing_ensemble.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -32,9 +33,10 @@ private:
 }  // namespace
 
 DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads,
-                                 int max_particles, const DiagnoseObserver* cancel)
-    : scheme_(base), base_(base), cancel_(cancel) {
+                                 int max_particles, const DiagnoseObserver* cancel, int packings)
+    : scheme_(base), base_(base), cancel_(cancel), packings_(packings) {
     scheme_.validate();
+    if (packings < 1 || packings > 16) throw std::invalid_argument("packings per model run must be 1..16");
     if (threads > 0) base_.threads = threads;
     // The calibration specimen is the scheme's (max_particles > 0 caps its grains). A coarser
     // membrane (D / 12) and a faster shear (I = 1e-3) cut a run's particle-steps 3.4x
@@ -81,6 +83,7 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
             conditions_.push_back({c.confining_pa, false, base_.loading.stress_levels, base_.loading.stage_durations_s, 0.0});
             it = conditions_.end() - 1;
         }
+        if (c.kind == CurveKind::Shear && !c.axial_strain.empty()) it->lab_shear = true;
         if (c.kind == CurveKind::Shear && !c.axial_strain.empty())
             it->max_axial_strain = std::max(it->max_axial_strain, *std::max_element(c.axial_strain.begin(), c.axial_strain.end()));
         if (c.kind != CurveKind::Creep || c.stage < 1) continue;
@@ -101,7 +104,7 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
                                base_.loading.stage_durations_s, 0.0});
     for (auto& k : conditions_) {
         // The shear runs 2 % past the lab's last reading (at least 0.5 % strain); a creep test
-        // needs its q_f, so the shear then keeps the scheme's end.
+        // without a lab shear curve at its pressure keeps the scheme's end for its q_f.
         k.max_axial_strain = k.max_axial_strain > 0.0 ? std::clamp(1.02 * k.max_axial_strain, 0.005, 0.4)
                                                       : base_.loading.max_axial_strain;
         // Stages run in order on one specimen: keep only as many as the lab reports.
@@ -245,6 +248,14 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
 }
 
 LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed) const {
+    if (packings_ == 1) return simulate_packing(point, seed);
+    std::vector<LabDataset> each;
+    for (int j = 0; j < packings_; ++j)
+        each.push_back(simulate_packing(point, seed + static_cast<std::uint64_t>(j) * kPackingSeedStride));
+    return mean_over_packings(each);
+}
+
+LabDataset DemForwardModel::simulate_packing(const ModelPoint& point, std::uint64_t seed) const {
     LabDataset out;
     out.name = base_.name;
     for (const auto& k : conditions_) {
@@ -253,7 +264,10 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
         if (k.creep) {
             s.loading.stress_levels = k.stress_levels;
             s.loading.stage_durations_s = k.durations_s;
-        } else {
+        }
+        // The shear covers the lab's readings: no failure stop inside them; q_f of the creep
+        // stages is then the peak over the lab's strain range, as the lab reads it.
+        if (!k.creep || k.lab_shear) {
             s.loading.max_axial_strain = k.max_axial_strain;
             s.loading.stop_at_softening = false;
         }
@@ -308,7 +322,8 @@ DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme&
 
 DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base, const DiagnoseOptions& options,
                               DiagnoseObserver& observer, SimulationBatch& batch) {
-    const DemForwardModel model(base, lab, options.threads_per_run, options.max_particles, &observer);
+    const DemForwardModel model(base, lab, options.threads_per_run, options.max_particles, &observer,
+                                options.packings_per_run);
     return run_diagnosis(lab, model, options, observer, batch);
 }
 

@@ -28,8 +28,9 @@
 //   contact_creep_viscosity -> the creep law on, its rate scaled (log 0.01..100); offered
 //                              only with creep curves
 //   moisture_bonding        -> not offered: the base calibrates the bond strength from 0
-// Every run uses the given seed (common random numbers: the same packing for every parameter
-// set, so differences between runs are the parameters', not the packing's).
+// Every run uses the given seed (common random numbers: the same packings for every parameter
+// set, so differences between runs are the parameters', not the packing's); a run is the
+// mean of `packings` packings (packing_ensemble.hpp).
 #include "engine/diagnose/forward_model.hpp"
 #include "engine/protocol/test_scheme.hpp"
 
@@ -47,15 +48,18 @@ public:
     // threads: OpenMP threads per run; max_particles > 0 overrides the scheme's cap.
     // `cancel` (may be null) is polled inside every DEM run, from the worker threads, so a
     // cancelled diagnosis does not wait for a long run to finish.
+    // `packings` >= 1: packings (seeds) whose mean curves are one model run (packing_ensemble.hpp).
     DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads, int max_particles,
-                    const DiagnoseObserver* cancel = nullptr);
+                    const DiagnoseObserver* cancel = nullptr, int packings = 1);
 
     std::vector<ParameterSpec> base_parameters() const override;
     std::vector<ParameterSpec> effect_parameters(Effect e) const override;
     bool includes(Effect e) const override;
     std::string not_offered_reason(Effect e) const override;
     std::vector<HeldParameter> held_fixed() const override;
+    // The mean over the model's packings: seed, seed + kPackingSeedStride, ...
     LabDataset simulate(const ModelPoint& point, std::uint64_t seed) const override;
+    int packings() const { return packings_; }
 
     // The scheme a model point runs at one confining pressure (exposed for tests and for
     // storing the calibrated scheme).
@@ -68,10 +72,13 @@ private:
         std::vector<double> stress_levels;
         std::vector<double> durations_s;
         double max_axial_strain = 0.0;  // shear to 2 % past the lab's last reading
+        bool lab_shear = false;         // the lab has a shear curve at this pressure
     };
     protocol::TestScheme scheme_;  // as given
     protocol::TestScheme base_;    // the scheme without the catalog's effects
     const DiagnoseObserver* cancel_ = nullptr;
+    int packings_ = 1;
+    LabDataset simulate_packing(const ModelPoint& point, std::uint64_t seed) const;
     std::vector<Condition> conditions_;
     bool creep_in_lab_ = false;
     double bond_strength_max_pa_ = 0.0;

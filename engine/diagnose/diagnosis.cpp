@@ -18,6 +18,8 @@ void check_options(const DiagnoseOptions& o) {
     if (o.refine_runs < 1) throw std::invalid_argument("refine_runs must be at least 1");
     if (o.max_effects < 1) throw std::invalid_argument("max_effects must be at least 1");
     if (o.noise_seeds < 1) throw std::invalid_argument("noise_seeds must be at least 1");
+    if (o.packings_per_run < 1 || o.packings_per_run > 16)
+        throw std::invalid_argument("packings_per_run must be 1..16, got " + std::to_string(o.packings_per_run));
 }
 
 // A driver with a no-op observer only to read its plan; no run is made.

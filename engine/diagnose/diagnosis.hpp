@@ -33,6 +33,7 @@ struct DiagnoseOptions {
     int concurrency = 1;           // model evaluations run at the same time
     int threads_per_run = 1;       // OpenMP threads inside one DEM run
     int max_particles = 0;         // DEM: cap on soil particles per run (0 = the scheme's)
+    int packings_per_run = 2;      // DEM: packings averaged into one model run (1..16)
     std::uint64_t seed = 1;
     // Packings the calibrated base model is run on to measure the noise floor (the
     // calibration's own counts as one; 1 = not measured, every gain is taken at face value).
@@ -110,8 +111,10 @@ struct BoundHit {
 //   no_effect_needed  the calibrated base model fits within the tolerance, no effect earns
 //                     its parameters beyond the noise floor;
 //   unexplained       what remains is above kUnexplainedFactor x tolerance (pooled, or in one
-//                     curve phase) whatever the catalog adds; effects that helped are still
-//                     listed in `effects`.
+//                     curve phase), or one curve is above kUnexplainedFactor x its own
+//                     tolerance (its own packing scatter) and kUnexplainedFloor,
+//                     whatever the catalog adds; effects that helped are still listed in
+//                     `effects`.
 enum class Outcome { EffectFound, NoEffectNeeded, Unexplained };
 // Inline: the report's JSON edge (and its fuzz target) names outcomes without the engine.
 inline std::string_view outcome_name(Outcome o) {

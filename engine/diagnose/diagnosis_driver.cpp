@@ -311,7 +311,24 @@ void DiagnosisDriver::report(const Fit& final_fit, const Fit& base_source) {
     rep_.worst_remaining = {};
     for (const auto& e : rep_.error_after)
         if (e.phase != "all" && e.n >= 5 && e.nrmse > rep_.worst_remaining.nrmse) rep_.worst_remaining = e;
-    const bool unexplained = rep_.nrmse_after > pooled_limit || rep_.worst_remaining.nrmse > phase_limit;
+    // Each curve against its own packing scatter: a curve off beyond what another packing
+    // gives it, and by more than kUnexplainedFloor of its range, is not diluted by the
+    // curves that fit (creep stages outnumber shear curves in readings).
+    PhaseError worst_curve;  // the curve furthest beyond its own limit
+    for (const auto& e : rep_.error_after) {
+        if (e.phase != "all" || e.n < 5) continue;
+        double s_c = 0.0;
+        for (const auto& [label, v] : rep_.noise.model_nrmse_per_curve)
+            if (label == e.curve) s_c = v;
+        const double tol_c = std::sqrt(2.0 * s_c * s_c + rep_.noise.lab_nrmse * rep_.noise.lab_nrmse);
+        if (e.nrmse > std::max(kUnexplainedFactor * tol_c, kUnexplainedFloor) && e.nrmse > worst_curve.nrmse)
+            worst_curve = e;
+    }
+    const bool curve_beyond = worst_curve.n > 0;
+    // The verdict names where it remains: the worst phase if it is beyond its limit, else the
+    // curve.
+    if (curve_beyond && rep_.worst_remaining.nrmse <= phase_limit) rep_.worst_remaining = worst_curve;
+    const bool unexplained = rep_.nrmse_after > pooled_limit || rep_.worst_remaining.nrmse > phase_limit || curve_beyond;
     if (unexplained) rep_.outcome = Outcome::Unexplained;
     else if (!rep_.effects.empty()) rep_.outcome = Outcome::EffectFound;
     else rep_.outcome = Outcome::NoEffectNeeded;

@@ -16,6 +16,8 @@ bool is_creep(const ResidualSeries& s) {
 
 // Sum of squared white-noise estimates of one series and their count.
 std::pair<double, std::size_t> series_noise(const ResidualSeries& s) {
+    // One reading per stage: its neighbours are other stages, not a curve.
+    if (s.quantity == Quantity::CreepInstant) return {0.0, 0};
     double ss = 0.0;
     std::size_t n = 0;
     auto x_of = [&](std::size_t i) { return is_creep(s) ? std::log(std::max(s.x[i], 1e-3)) : s.x[i]; };

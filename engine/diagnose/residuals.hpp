@@ -13,15 +13,23 @@ namespace triax::diagnose {
 
 // Creep curves are compared on axial strain when the lab gives it, else on axial
 // deformation (m) - GDS exports often carry only the displacement.
-enum class Quantity { Deviator, Volumetric, CreepStrain, CreepDeformation };
+// A creep stage's curve is split in two: its deformation at loading (the stage's first
+// reading: the instant response, one reading per stage, pooled per pressure as the series
+// "instant@100kPa", Quantity::CreepInstant, x = stage number) and the creep after it (the
+// series "creep-2@100kPa": readings after the first, counted from it). The instant part is
+// a loading response (the shear curve's business, and on a ~200-grain specimen its packing
+// scatter is several times a stage's creep); normalised together, a stage's small creep
+// range made any instant misfit look like 100s of % and hid the creep's shape.
+enum class Quantity { Deviator, Volumetric, CreepStrain, CreepDeformation, CreepInstant };
 
 // Phase of each reading, decided from the lab curve alone so that every model is scored
 // on the same split:
 //  deviator vs axial strain: pre_peak up to the (smoothed) peak of q, post_peak after it;
 //  volumetric vs axial strain: contraction up to the largest contraction, dilation after;
-//  creep strain vs time: instant (t <= 60 s), then primary while the strain rate is above
-//  twice its minimum and falling, steady around the minimum, tertiary once it has risen
-//  back above twice the minimum.
+//  creep strain vs time (after the stage's first reading): primary while the strain rate
+//  is above twice its minimum and falling, steady around the minimum, tertiary once it has
+//  risen back above twice the minimum (and stays there);
+//  instant series: instant.
 struct ResidualSeries {
     std::string label;     // "stress_strain@100kPa", "volumetric@100kPa", "creep-2@100kPa"
     std::string unit;      // SI unit of lab/model: "Pa", "-" or "m"
@@ -31,6 +39,12 @@ struct ResidualSeries {
     double scale = 1.0;    // range of the lab readings; residual / scale is what is pooled
     std::vector<double> x, lab;
     std::vector<std::string> phase;
+    // Creep series: lab and model readings are counted from their value at this time (s).
+    double reference_time = 0.0;
+    // Instant series: per reading (stage) the time of that stage's first reading (s), and
+    // whether the stages were read as strain (else deformation, m).
+    std::vector<double> stage_time;
+    bool instant_as_strain = true;
 };
 
 // Lab side of the residual, built once per dataset. Throws std::invalid_argument when the

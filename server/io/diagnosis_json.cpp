@@ -290,6 +290,7 @@ DiagnoseOptions diagnose_options_from_json(const json& body) {
     o.concurrency = bounded(body, "concurrency", 1, 64, o.concurrency);
     o.threads_per_run = bounded(body, "threads_per_run", 1, 64, o.threads_per_run);
     o.max_particles = bounded(body, "max_particles", 0, 1000000, o.max_particles);
+    o.packings_per_run = bounded(body, "packings_per_run", 1, 16, o.packings_per_run);
     o.seed = bounded<std::uint64_t>(body, "seed", 0, std::uint64_t{1} << 53, o.seed);
     o.noise_seeds = bounded(body, "noise_seeds", 1, 16, o.noise_seeds);
     o.bic_threshold = bounded(body, "bic_threshold", 0.0, 1e6, o.bic_threshold);
@@ -305,6 +306,7 @@ json diagnose_options_to_json(const DiagnoseOptions& o) {
             {"concurrency", o.concurrency},
             {"threads_per_run", o.threads_per_run},
             {"max_particles", o.max_particles},
+            {"packings_per_run", o.packings_per_run},
             {"seed", o.seed},
             {"noise_seeds", o.noise_seeds},
             {"bic_threshold", o.bic_threshold},

@@ -71,10 +71,11 @@ TEST_CASE("creep data with hidden extra bond damage: named as bond degradation, 
     REQUIRE(step != r.steps.end());
     CHECK(step->nrmse_after <= 0.5 * step->nrmse_before);
     CHECK(step->delta_bic < -10.0);
-    // Contact viscosity competed in the same step and lost on BIC.
+    // Contact viscosity competed in the same step: its signature did not match the residual
+    // (score below the fitting threshold), or it was fitted and lost on BIC.
     const auto& visc = candidate(r, "contact_creep_viscosity");
-    CHECK(visc.fitted);
-    CHECK(visc.delta_bic_vs_base > candidate(r, "bond_degradation").delta_bic_vs_base + 10.0);
+    if (visc.fitted) CHECK(visc.delta_bic_vs_base > candidate(r, "bond_degradation").delta_bic_vs_base + 10.0);
+    else CHECK(visc.signature_score < 0.5 * candidate(r, "bond_degradation").signature_score);
     auto damage = std::find_if(r.parameters.begin(), r.parameters.end(), [](auto& p) { return p.name == "extra_bond_damage_rate"; });
     REQUIRE(damage != r.parameters.end());
     CHECK(std::abs(damage->value - 3.0) <= 4.0 * damage->std + 0.1 * 3.0);

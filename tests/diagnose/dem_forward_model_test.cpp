@@ -8,6 +8,7 @@
 
 #include "engine/diagnose/dem_forward_model.hpp"
 #include "engine/diagnose/diagnosis.hpp"
+#include "engine/diagnose/packing_ensemble.hpp"
 #include "engine/diagnose/residuals.hpp"
 #include "engine/protocol/test_scheme.hpp"
 #include "lab_fixtures.hpp"
@@ -160,6 +161,38 @@ TEST_CASE("DEM forward model: every pressure's shear reaches the lab's last read
     const auto layout = residual_layout(lab);
     const auto r = normalised_residual(layout, out);
     for (double x : r) CHECK(x != 1.0);  // every reading reached
+}
+
+TEST_CASE("DEM forward model: a run of two packings is the mean of the two packings' runs", "[diagnose][dem]") {
+    TestScheme base = reduced_scheme(2.5e-3, 0.01, 3);
+    base.micro.bond_normal_strength_pa = base.micro.bond_shear_strength_pa = 0.0;
+    const LabDataset lab = shear_conditions({100e3}, 0.01);
+    const DemForwardModel one(base, lab, 1, 120);
+    const DemForwardModel two(base, lab, 1, 120, nullptr, 2);
+    std::vector<double> v;
+    for (const auto& s : one.base_parameters()) v.push_back(s.nominal);
+    const LabDataset a = one.simulate({v, {}}, 5);
+    const LabDataset b = one.simulate({v, {}}, 5 + kPackingSeedStride);
+    const LabDataset m = two.simulate({v, {}}, 5);
+    REQUIRE(m.curves.size() == 1);
+    const auto& ca = a.curves[0];
+    const auto& cb = b.curves[0];
+    const auto& cm = m.curves[0];
+    CHECK(ca.deviator_pa != cb.deviator_pa);  // two packings
+    REQUIRE(cm.axial_strain.size() >= 3);
+    // Every reading of the mean (the first packing's strains, up to the shorter curve's end)
+    // is the mean of the two packings' curves read there.
+    auto read = [](const LabCurve& c, double e) {
+        const auto j = static_cast<std::size_t>(std::lower_bound(c.axial_strain.begin(), c.axial_strain.end(), e) -
+                                                c.axial_strain.begin());
+        if (j == 0) return c.deviator_pa.front();
+        const double w = (e - c.axial_strain[j - 1]) / (c.axial_strain[j] - c.axial_strain[j - 1]);
+        return (1 - w) * c.deviator_pa[j - 1] + w * c.deviator_pa[j];
+    };
+    CHECK(cm.axial_strain.back() <= std::min(ca.axial_strain.back(), cb.axial_strain.back()));
+    for (std::size_t i = 0; i < cm.axial_strain.size(); ++i)
+        CHECK(cm.deviator_pa[i] == Approx(0.5 * (read(ca, cm.axial_strain[i]) + read(cb, cm.axial_strain[i]))).margin(1e-6));
+    CHECK_THROWS(DemForwardModel(base, lab, 1, 120, nullptr, 0));
 }
 
 TEST_CASE("DEM forward model: one reduced shear run, timed", "[diagnose][dem][.timing]") {

@@ -1,7 +1,10 @@
 // Residual layout, phase labels, penalties for readings the model does not reach.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "engine/diagnose/residuals.hpp"
 
@@ -50,13 +53,29 @@ TEST_CASE("shear curves are split at the peak and at the largest contraction", "
     CHECK(layout[1].phase.back() == "dilation");
 }
 
-TEST_CASE("creep curves are split into instant, primary, steady and tertiary", "[diagnose][residuals]") {
+TEST_CASE("creep curves are split into the loading (instant) and the creep after it (primary, steady, tertiary)",
+          "[diagnose][residuals]") {
     LabDataset lab{"t", {creep_curve(false), creep_curve(true)}, {}};
     lab.curves[1].stage = 3;
+    lab.curves[1].axial_strain[0] = 3e-3;  // stage 3 loads further
     const auto layout = residual_layout(lab);
-    REQUIRE(layout.size() == 2);
-    CHECK(layout[0].phase[0] == "instant");
-    CHECK(layout[0].phase[5] == "primary");
+    REQUIRE(layout.size() == 3);
+    // The creep of each stage, counted from its first reading.
+    CHECK(layout[0].label == "creep-2@100kPa");
+    REQUIRE(layout[0].x.size() == 60);
+    CHECK(layout[0].x.front() == Approx(30.0 * std::pow(10.0, 4.0 / 60.0)));
+    CHECK(layout[0].lab.front() == Approx(2e-4 * std::log1p(layout[0].x.front() / 60.0) + 1e-9 * layout[0].x.front()));
+    CHECK(layout[0].phase[0] == "primary");
+    // Both stages share one scale: the larger creep range (the tertiary stage's).
+    CHECK(layout[0].scale == Approx(layout[1].scale));
+    CHECK(layout[1].scale > layout[0].lab.back() - layout[0].lab.front());
+    // The loading of each stage: one reading per stage, x = stage; with fewer than 3 stages
+    // the scale is at least the largest loading (a range of two is no loading curve).
+    CHECK(layout[2].label == "instant@100kPa");
+    CHECK(layout[2].x == std::vector<double>{2.0, 3.0});
+    CHECK(layout[2].lab == std::vector<double>{1e-3, 3e-3});
+    CHECK(layout[2].scale == Approx(3e-3));
+    CHECK(layout[2].phase == std::vector<std::string>{"instant", "instant"});
     CHECK(std::count(layout[0].phase.begin(), layout[0].phase.end(), "tertiary") == 0);
     CHECK(std::count(layout[0].phase.begin(), layout[0].phase.end(), "steady") > 0);
     CHECK(layout[1].phase.back() == "tertiary");
@@ -66,7 +85,7 @@ TEST_CASE("model = lab gives a zero residual, a missing curve gives the full-ran
     LabDataset lab{"t", {shear_curve(100e3), creep_curve(false)}, {}};
     const auto layout = residual_layout(lab);
     auto r = normalised_residual(layout, lab);
-    REQUIRE(r.size() == 41 + 41 + 61);
+    REQUIRE(r.size() == 41 + 41 + 60 + 1);  // shear q and eps_v, the creep after loading, the loading
     for (double v : r) CHECK(v == Approx(0.0).margin(1e-12));
 
     LabDataset shear_only{"m", {shear_curve(100e3)}, {}};
@@ -76,6 +95,17 @@ TEST_CASE("model = lab gives a zero residual, a missing curve gives the full-ran
     LabDataset other{"m", {shear_curve(200e3)}, {}};
     r = normalised_residual(layout, other);
     CHECK(r.front() == 1.0);
+}
+
+TEST_CASE("a model that loads too far but creeps alike misses only the instant series", "[diagnose][residuals]") {
+    LabDataset lab{"t", {creep_curve(false)}, {}};
+    const auto layout = residual_layout(lab);
+    LabDataset model = lab;
+    for (auto& e : model.curves[0].axial_strain) e += 5e-4;  // the whole stage 0.05 % higher
+    const auto r = normalised_residual(layout, model);
+    REQUIRE(r.size() == 61);
+    for (std::size_t i = 0; i < 60; ++i) CHECK(r[i] == Approx(0.0).margin(1e-12));
+    CHECK(r[60] == Approx(5e-4 / 1e-3));  // one stage: scaled by its own loading
 }
 
 TEST_CASE("phase errors: RMSE in the curve's unit, NRMSE relative to the lab range", "[diagnose][residuals]") {
@@ -105,7 +135,8 @@ TEST_CASE("creep given only as deformation is compared on deformation", "[diagno
     c.axial_strain.clear();
     LabDataset lab{"t", {c}, {}};
     const auto layout = residual_layout(lab);
-    REQUIRE(layout.size() == 1);
+    REQUIRE(layout.size() == 2);  // the creep and the loading
     CHECK(layout[0].unit == "m");
+    CHECK(layout[1].unit == "m");
     for (double v : normalised_residual(layout, lab)) CHECK(v == Approx(0.0).margin(1e-12));
 }
