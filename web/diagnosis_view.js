@@ -65,7 +65,7 @@ export function applyParameters(scheme, parameters) {
 // carry them). The browser test sends values just outside them and expects the 422.
 export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53] };
 // The diagnosis's own defaults (engine/diagnose/diagnosis.hpp DiagnoseOptions).
-const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1, packings_per_run: 2 };
+const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1, packings_per_run: 1 };
 
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
 const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);

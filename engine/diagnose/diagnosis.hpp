@@ -33,7 +33,7 @@ struct DiagnoseOptions {
     int concurrency = 1;           // model evaluations run at the same time
     int threads_per_run = 1;       // OpenMP threads inside one DEM run
     int max_particles = 0;         // DEM: cap on soil particles per run (0 = the scheme's)
-    int packings_per_run = 2;      // DEM: packings averaged into one model run (1..16)
+    int packings_per_run = 1;      // DEM: packings averaged into one model run (1..16)
     std::uint64_t seed = 1;
     // Packings the calibrated base model is run on to measure the noise floor (the
     // calibration's own counts as one; 1 = not measured, every gain is taken at face value).

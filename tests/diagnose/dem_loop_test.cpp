@@ -77,10 +77,6 @@ Case run_case(const CaseSpec& cs) {
     opt.concurrency = 2;
     opt.seed = cs.model_seed;
     opt.finite_difference_uncertainty = false;
-    // One packing per model run (the product's default is 2): the lab here is one packing of
-    // ~400 grains and the cases' figures (docs/diagnosis.md 8.3) are on one; two would double
-    // each case's CI time.
-    opt.packings_per_run = 1;
     DiagnoseObserver quiet;
     const auto t0 = std::chrono::steady_clock::now();
     Case out{run_diagnosis(lab, model, opt, quiet), 0.0, plan_diagnosis(lab, model, opt).model_runs};
