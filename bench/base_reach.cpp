@@ -6,6 +6,9 @@
 // largest contraction. A run that loses a grain prints its error and the sweep goes on.
 // Usage: base_reach [sigma3_kpa=100] [seeds=1,2] [mu=0.05,0.3] [wall_mu=0.4] [grains=200]
 //        [strain=0.15] [membrane_k=2e4] [boundary=membrane,grain_pressure] [porosity=0.35]
+//        [compaction=1]
+// compaction: the grains' friction during consolidation as a multiple of mu (0 = frictionless,
+// dense; 1 = mu; above 1 looser); the shear runs at mu.
 // porosity: the generation's target porosity (grains grown frictionless to that solid volume,
 // then consolidated with friction: a looser target gives a looser specimen).
 // boundary: the bonded membrane (its lattice springs at membrane_k) or the pressure on the
@@ -37,7 +40,8 @@ std::vector<double> list(const std::string& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::map<std::string, std::string> kv{{"sigma3_kpa", "100"}, {"seeds", "1,2"}, {"mu", "0.05,0.3"},                                           {"wall_mu", "0.4"}, {"grains", "200"}, {"strain", "0.15"}, {"membrane_k", "2e4"}, {"boundary", "membrane"}, {"porosity", "0.35"}};
+    std::map<std::string, std::string> kv{{"sigma3_kpa", "100"}, {"seeds", "1,2"}, {"mu", "0.05,0.3"},                                           {"wall_mu", "0.4"}, {"grains", "200"}, {"strain", "0.15"}, {"membrane_k", "2e4"}, {"boundary", "membrane"}, {"porosity", "0.35"},
+                                          {"compaction", "1"}};
     if (!triax::bench::read_key_values(argc, argv, kv)) return 2;
     const double s3 = 1e3 * std::atof(kv["sigma3_kpa"].c_str());
     std::vector<std::string> boundaries;
@@ -52,7 +56,7 @@ int main(int argc, char** argv) {
             boundaries.push_back(b);
         }
     }
-    std::printf("%-14s %8s %6s %6s %6s %5s %9s %7s %9s %11s %11s %8s %7s %10s %9s\n", "boundary", "memb_k", "mu", "wallmu", "n0", "seed", "porosity", "phi_p",
+    std::printf("%-14s %8s %6s %6s %6s %5s %5s %9s %7s %9s %11s %11s %8s %7s %10s %9s\n", "boundary", "memb_k", "mu", "wallmu", "n0", "c_mu", "seed", "porosity", "phi_p",
                 "eps_p_%", "q15/q_peak", "max_contr_%", "steps", "wall_s", "cons_steps", "cons_ubf");
     std::fflush(stdout);
     for (const std::string& boundary : boundaries)
@@ -60,6 +64,7 @@ int main(int argc, char** argv) {
         for (double wall_mu : list(kv["wall_mu"]))
             for (double mu : list(kv["mu"]))
               for (double n0 : list(kv["porosity"]))
+               for (double cf : list(kv["compaction"]))
                 for (double seed : list(kv["seeds"])) {
                     TestScheme s;
                     s.specimen.diameter_m = 0.05;
@@ -68,6 +73,7 @@ int main(int argc, char** argv) {
                     s.gradation.radius_ratio = 3.0;
                     s.max_particles = std::atoi(kv["grains"].c_str());
                     s.specimen.target_porosity = n0;
+                    s.specimen.compaction_friction_ratio = cf;
                     s.micro.friction = mu;
                     s.micro.wall_friction = wall_mu;
                     if (boundary == "membrane") s.micro.membrane_stiffness_n_m = mk;
@@ -84,7 +90,7 @@ int main(int argc, char** argv) {
                     try {
                         r = run_triaxial_test(s, quiet, Phase::Shear);
                     } catch (const std::exception& e) {
-                        std::printf("%-14s %8.0f %6.2f %6.2f %6.3f %5.0f  failed: %s\n", boundary.c_str(), mk, mu, wall_mu, n0, seed, e.what());
+                        std::printf("%-14s %8.0f %6.2f %6.2f %6.3f %5.2f %5.0f  failed: %s\n", boundary.c_str(), mk, mu, wall_mu, n0, cf, seed, e.what());
                         std::fflush(stdout);
                         continue;
                     }
@@ -96,7 +102,7 @@ int main(int argc, char** argv) {
                     const double q_end = r.shear.empty() ? 0.0 : r.shear.back().q_pa;
                     const double phi = std::asin(q_peak / (q_peak + 2.0 * s3)) * 180.0 / 3.14159265358979;
                     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                    std::printf("%-14s %8.0f %6.2f %6.2f %6.3f %5.0f %9.4f %7.1f %9.2f %11.2f %11.2f %8ld %7.0f %10ld %9.1e\n", boundary.c_str(), mk, mu, wall_mu, n0, seed,
+                    std::printf("%-14s %8.0f %6.2f %6.2f %6.3f %5.2f %5.0f %9.4f %7.1f %9.2f %11.2f %11.2f %8ld %7.0f %10ld %9.1e\n", boundary.c_str(), mk, mu, wall_mu, n0, cf, seed,
                                 r.consolidation.porosity, phi, 100 * e_peak, q_peak > 0 ? q_end / q_peak : 0.0, 100 * contr,
                                 r.total_steps, wall_s, r.consolidation.steps, r.consolidation.unbalanced_force_ratio);
                     std::fflush(stdout);

@@ -17,7 +17,8 @@ void consolidate_isotropically(Specimen& sp, RunContext& run) {
     constexpr long kChunk = PlatenServo::kChunk;
     const double sigma3 = run.scheme.loading.confining_pressure_pa;
     World& w = sp.world();
-    sp.install_test_laws();
+    // Consolidated at the compaction friction (the specimen's density), sheared at its own.
+    sp.install_compaction_laws();
     sp.release_lateral_boundary();
     const double dt = w.time_step();
     const PlatenServo servo = PlatenServo::for_specimen(sp);
@@ -39,6 +40,7 @@ void consolidate_isotropically(Specimen& sp, RunContext& run) {
     }
     w.plane_wall(sp.top_wall()).velocity.setZero();
     w.plane_wall(sp.bottom_wall()).velocity.setZero();
+    sp.install_test_laws();
     auto& c = run.result.consolidation;
     c.unbalanced_force_ratio = ratio;
     c.porosity = sp.porosity();

@@ -182,11 +182,11 @@ Specimen::Specimen(const Specimen& o)
       reference_(o.reference_),
       rotation_(o.rotation_) {}
 
-ContactLaw Specimen::soil_law(bool friction_on) const {
+ContactLaw Specimen::soil_law(bool friction_on, double friction_ratio) const {
     ContactLaw l;
     l.kn = soil_kn_;
     l.ks = soil_kn_ * scheme_.micro.shear_modulus_pa / scheme_.micro.normal_modulus_pa;
-    l.friction = friction_on ? scheme_.micro.friction : 0.0;
+    l.friction = friction_on ? friction_ratio * scheme_.micro.friction : 0.0;
     l.bond_friction = scheme_.micro.bond_friction;
     l.bond_rolling_friction = friction_on ? scheme_.micro.bond_rolling_friction : 0.0;
     const double rr = scheme_.effects.rolling_resistance ? scheme_.effects.rolling_friction : scheme_.micro.rolling_friction;
@@ -194,8 +194,8 @@ ContactLaw Specimen::soil_law(bool friction_on) const {
     return l;
 }
 
-void Specimen::set_laws(bool friction_on) {
-    world_.set_contact_law(kSoilGroup, kSoilGroup, soil_law(friction_on));
+void Specimen::set_laws(bool friction_on, double friction_ratio) {
+    world_.set_contact_law(kSoilGroup, kSoilGroup, soil_law(friction_on, friction_ratio));
     ContactLaw sm;  // soil on membrane, frictionless. The membrane's flexibility is in its
     // bonds; the grain-membrane contact is as stiff as a grain contact so that grains
     // cannot be pushed through the membrane layer (a soft contact let small grains escape).
@@ -223,6 +223,8 @@ void Specimen::set_laws(bool friction_on) {
 }
 
 void Specimen::install_test_laws() { set_laws(true); }
+
+void Specimen::install_compaction_laws() { set_laws(true, scheme_.specimen.compaction_friction_ratio); }
 
 void Specimen::enable_crushing() { crushing_on_ = !crush_force_.empty(); }
 

@@ -50,6 +50,9 @@ public:
 
     // Switches to the test's contact laws (friction on; bond strength per moisture).
     void install_test_laws();
+    // The test laws with the soil's friction times specimen.compaction_friction_ratio
+    // (consolidation); install_test_laws() restores the shear's.
+    void install_compaction_laws();
     // Makes the grain contacts crushable (if micro.crushing_strength_pa > 0), on the
     // consolidated fabric: the overlaps the radius expansion locks in are a packing
     // device, not loads, and would crush into a denser specimen (docs/protocol.md).
@@ -97,8 +100,8 @@ public:
     int bottom_wall() const { return 0; }
 
 private:
-    ContactLaw soil_law(bool friction_on) const;
-    void set_laws(bool friction_on);
+    ContactLaw soil_law(bool friction_on, double friction_ratio = 1.0) const;
+    void set_laws(bool friction_on, double friction_ratio = 1.0);
 
     TestScheme scheme_;
     World world_;

@@ -33,6 +33,8 @@ void TestScheme::validate() const {
     require(gradation_r_max_m(gradation) < 0.25 * specimen.diameter_m, "gradation",
             "largest radius must be below a quarter of the specimen diameter");
     require(micro.friction >= 0.0 && micro.friction < 5.0, "micro.friction", "must be in [0, 5)");
+    require(specimen.compaction_friction_ratio >= 0.0 && specimen.compaction_friction_ratio <= 5.0,
+            "specimen.compaction_friction_ratio", "must be in [0, 5] (0: frictionless, 1: the grains' friction)");
     require(micro.local_damping >= 0.0 && micro.local_damping < 1.0, "micro.local_damping", "must be in [0, 1)");
     // Upper limits keep the critical time step, and so the run's length, finite.
     require(micro.normal_modulus_pa > 0.0 && micro.normal_modulus_pa <= kMaxModulusPa, "micro.normal_modulus_pa",

@@ -18,6 +18,11 @@ struct SpecimenSpec {
     double diameter_m = 0.1;
     double height_m = 0.2;
     double target_porosity = 0.35;          // n, Table 3
+    // Grain friction during the isotropic consolidation as a multiple of micro.friction (the
+    // shear's): how a DEM specimen is given its density (PFC's and YADE's friction-controlled
+    // compaction). 0: frictionless, the densest packing; 1: the grains' own friction; above
+    // 1: looser. The shear and the creep stages run at micro.friction.
+    double compaction_friction_ratio = 1.0;
     double dry_density_kg_m3 = 2055.3;      // 0.93 x 2210 (compaction degree x max dry density)
     double moisture_content = 0.089;        // w as a fraction (8.9 % = optimum, Table 1)
     // How sigma3 reaches the soil: the paper's bonded-sphere membrane (Fig. 3B), or the

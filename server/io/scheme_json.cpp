@@ -41,6 +41,7 @@ const std::vector<NumberField>& number_fields() {
         {"specimen", "diameter_mm", "specimen.diameter_m", [](TestScheme& s) -> double& { return s.specimen.diameter_m; }, 1e-3},
         {"specimen", "height_mm", "specimen.height_m", [](TestScheme& s) -> double& { return s.specimen.height_m; }, 1e-3},
         {"specimen", "target_porosity", "specimen.target_porosity", [](TestScheme& s) -> double& { return s.specimen.target_porosity; }, 1.0},
+        {"specimen", "compaction_friction_ratio", "specimen.compaction_friction_ratio", [](TestScheme& s) -> double& { return s.specimen.compaction_friction_ratio; }, 1.0},
         {"specimen", "dry_density_g_cm3", "specimen.dry_density_kg_m3", [](TestScheme& s) -> double& { return s.specimen.dry_density_kg_m3; }, 1000.0},
         {"specimen", "moisture_content_pct", "specimen.moisture_content", [](TestScheme& s) -> double& { return s.specimen.moisture_content; }, 0.01},
         {"gradation", "r_min_mm", "gradation.r_min_m", [](TestScheme& s) -> double& { return s.gradation.r_min_m; }, 1e-3},

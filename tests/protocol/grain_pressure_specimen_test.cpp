@@ -66,3 +66,27 @@ TEST_CASE("grain-pressure boundary: consolidates to sigma3, no membrane, strengt
         CHECK(phi_rough > phi_smooth + 4.0);
     }
 }
+
+// The specimen's density from the friction it is consolidated at (PFC's and YADE's
+// friction-controlled compaction): grown loose (target porosity 0.45), then consolidated
+// frictionless it packs dense; at the grains' own friction it stays loose
+// (bench/base_reach compaction=0,1: porosity 0.370-0.386 against 0.400-0.412, seeds 1-3).
+TEST_CASE("grain-pressure specimen: consolidated frictionless it is denser than at its grains' friction",
+          "[protocol][grain_pressure]") {
+    RunObserver quiet;
+    for (unsigned seed : {1u, 2u}) {
+        TestScheme s = grain_pressure_scheme(0.3, seed);
+        s.specimen.target_porosity = 0.45;
+        TestScheme dense = s;
+        dense.specimen.compaction_friction_ratio = 0.0;
+        const TestResult loose_r = run_triaxial_test(s, quiet, Phase::Consolidation);
+        const TestResult dense_r = run_triaxial_test(dense, quiet, Phase::Consolidation);
+        INFO("seed " << seed << ": porosity " << dense_r.consolidation.porosity << " (frictionless) vs "
+                     << loose_r.consolidation.porosity << " (mu 0.3)");
+        CHECK(dense_r.consolidation.achieved_sigma3_pa == Approx(100e3).epsilon(0.01));
+        CHECK(dense_r.consolidation.porosity < loose_r.consolidation.porosity - 0.015);
+    }
+    TestScheme bad = grain_pressure_scheme(0.3, 1);
+    bad.specimen.compaction_friction_ratio = -0.5;
+    CHECK_THROWS_WITH(run_triaxial_test(bad, quiet, Phase::Consolidation), Catch::Contains("compaction_friction_ratio"));
+}
