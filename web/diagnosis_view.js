@@ -63,7 +63,7 @@ export function applyParameters(scheme, parameters) {
 // The request limits of POST /datasets/{id}/diagnose, as the server validates them
 // (diagnose_options_from_json in server/io/diagnosis_json.cpp; GET /openapi.json does not
 // carry them). The browser test sends values just outside them and expects the 422.
-export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53] };
+export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53], relative_density_percent: [0, 100] };
 // The diagnosis's own defaults (engine/diagnose/diagnosis.hpp DiagnoseOptions).
 const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1, packings_per_run: 1 };
 
@@ -110,7 +110,9 @@ export class DiagnosisView {
         el('div', { class: 'row' },
           field('budget_runs', 'calibration budget', 'DEM runs', 24),
           field('max_particles', 'max particles per run', '', 0, '0 = as in the scheme'),
-          field('seed', 'seed', '', 1)),
+          field('seed', 'seed', '', 1),
+          field('relative_density_percent', 'specimen relative density D_r', '%', '',
+            'blank = not stated: the model calibrates its packing density; stated, it is held')),
         this.cost,
         el('div', { class: 'row' }, el('button', { type: 'button', id: 'diagnose-button', onclick: () => this.start() }, 'Diagnose')),
         this.error),
@@ -131,7 +133,8 @@ export class DiagnosisView {
   async estimateCost() {
     const run = this.runs.find(r => String(r.scheme_id) === this.runSelect.value);
     const budget = Number(this.fields.budget_runs.input.value);
-    const base = 4, physical = 4;
+    // Modulus, friction, bond strength and, unless the lab states D_r, the compaction friction.
+    const base = this.fields.relative_density_percent.input.value === '' ? 4 : 3, physical = 4;
     // Each model run is the mean of packings_per_run packings (packing_ensemble.hpp).
     const runsAtLeast = DEFAULTS.packings_per_run * (budget + 2 * (base + 2));
     const runsUpTo = runsAtLeast +
@@ -192,6 +195,7 @@ export class DiagnosisView {
       const value = key => Number(this.fields[key].input.value);
       body = { scheme_id: schemeId, budget_runs: value('budget_runs'), seed: value('seed') };
       if (value('max_particles') !== 0) body.max_particles = value('max_particles');
+      if (this.fields.relative_density_percent.input.value !== '') body.relative_density_percent = value('relative_density_percent');
     }
     try {
       const res = await postJSON(`/datasets/${datasetId}/diagnose`, body);

@@ -33,10 +33,15 @@ private:
 }  // namespace
 
 DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads,
-                                 int max_particles, const DiagnoseObserver* cancel, int packings)
-    : scheme_(base), base_(base), cancel_(cancel), packings_(packings) {
+                                 int max_particles, const DiagnoseObserver* cancel, int packings,
+                                 std::optional<double> relative_density)
+    : scheme_(base), base_(base), cancel_(cancel), packings_(packings), relative_density_(relative_density) {
     scheme_.validate();
     if (packings < 1 || packings > 16) throw std::invalid_argument("packings per model run must be 1..16");
+    if (relative_density && !(*relative_density >= 0.0 && *relative_density <= 1.0))
+        throw std::invalid_argument("relative density must be 0..1 (0 = loosest, 1 = densest)");
+    base_.specimen.target_porosity = kDiagnosisGenerationPorosity;
+    if (relative_density) base_.specimen.compaction_friction_ratio = compaction_friction_for(*relative_density);
     if (threads > 0) base_.threads = threads;
     // The calibration specimen is the scheme's (max_particles > 0 caps its grains). A coarser
     // membrane (D / 12) and a faster shear (I = 1e-3) cut a run's particle-steps 3.4x
@@ -71,6 +76,12 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     // Cohesionless start unless the lab's peak envelope has an intercept worth 5 % of q.
     const bool cohesive = macro.shear.empty() ? scheme_bond > 0.0 : macro.peak_cohesion_pa > 0.05 * mean_q;
     bond_strength_nominal_pa_ = cohesive ? std::min(scheme_bond > 0.0 ? scheme_bond : 100.0e3, bond_strength_max_pa_) : 0.0;
+    // Dense start when the lab's curves peak early and soften (q at the last reading under
+    // 85 % of the peak, reached before half the test), else loose.
+    int softening = 0;
+    for (const auto& sh : macro.shear)
+        if (sh.q_peak_pa > 0.0 && sh.q_last_pa < 0.85 * sh.q_peak_pa && sh.strain_at_peak < 0.5 * sh.last_strain) ++softening;
+    compaction_nominal_ = 2 * softening > static_cast<int>(macro.shear.size()) ? 0.25 : 1.0;
     fx.moisture_bonding = false;
 
     // One condition per confining pressure (2 % tolerance: lab cells drift a little).
@@ -142,7 +153,6 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
     const auto& m = scheme_.micro;
     std::vector<HeldParameter> h{
         {"shear_to_normal_modulus_ratio", "-", m.shear_modulus_pa / m.normal_modulus_pa, "the scheme's ratio (E_s / E_n)"},
-        {"target_porosity", "-", scheme_.specimen.target_porosity, "the specimen's density as the scheme gives it"},
         {"local_damping", "-", m.local_damping, "quasi-static runs: damping does not set the response"},
         {"wall_friction", "-", m.wall_friction, "rough platens"},
         {"membrane_stiffness", "N/m", 0.0,
@@ -151,6 +161,12 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
         {"bond_friction", "-", m.bond_friction, "the bonds' Mohr-Coulomb friction (strength is calibrated)"},
         {"max_particles", "-", static_cast<double>(base_.max_particles), "the calibration specimen's grain cap (0: the scheme's gradation)"},
     };
+    h.push_back({"generation_porosity", "-", kDiagnosisGenerationPorosity,
+                 "the packing is grown loose; the compaction friction gives it its density"});
+    if (relative_density_)
+        h.push_back({"compaction_friction_ratio", "-", base_.specimen.compaction_friction_ratio,
+                     "from the lab's relative density D_r = " + std::to_string(100.0 * *relative_density_) +
+                         " % (1 - D_r: between the model's loosest and densest packings)"});
     if (m.bond_rolling_friction > 0.0)
         h.push_back({"bond_rolling_friction", "-", 0.0,
                      "the scheme's cement neck (" + std::to_string(m.bond_rolling_friction) +
@@ -169,7 +185,7 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
 
 std::vector<ParameterSpec> DemForwardModel::base_parameters() const {
     const auto& m = scheme_.micro;
-    return {
+    std::vector<ParameterSpec> specs{
         // Two decades around the scheme's modulus: a fill's small-strain stiffness spans that.
         {"contact_normal_modulus", "Pa", 0.1 * m.normal_modulus_pa, 10.0 * m.normal_modulus_pa, m.normal_modulus_pa, true},
         // Friction of mineral contacts and of rough, angular grains that a sphere must mimic.
@@ -177,6 +193,12 @@ std::vector<ParameterSpec> DemForwardModel::base_parameters() const {
         // Cohesion from cementation or suction: from none up.
         {"bond_strength", "Pa", 0.0, bond_strength_max_pa_, bond_strength_nominal_pa_, false, true},
     };
+    // The packing's density by the friction it is consolidated at: frictionless packs dense
+    // (an early peak, dilation), the grains' own friction leaves it loose (contraction,
+    // hardening to late strains, as a weak fill does; docs/diagnosis.md section 6). Held
+    // when the lab states its relative density.
+    if (!relative_density_) specs.push_back({"compaction_friction_ratio", "-", 0.0, 1.0, compaction_nominal_, false});
+    return specs;
 }
 
 std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
@@ -218,6 +240,7 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
     s.micro.shear_modulus_pa = ratio * s.micro.normal_modulus_pa;
     s.micro.friction = point.base[at++];
     s.micro.bond_normal_strength_pa = s.micro.bond_shear_strength_pa = std::max(0.0, point.base[at++]);
+    if (!relative_density_) s.specimen.compaction_friction_ratio = point.base[at++];
     for (const auto& [e, v] : point.effects) {
         if (v.empty()) throw std::invalid_argument("effect '" + std::string(effect_name(e)) + "' given no parameter");
         switch (e) {
@@ -323,7 +346,7 @@ DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme&
 DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base, const DiagnoseOptions& options,
                               DiagnoseObserver& observer, SimulationBatch& batch) {
     const DemForwardModel model(base, lab, options.threads_per_run, options.max_particles, &observer,
-                                options.packings_per_run);
+                                options.packings_per_run, options.relative_density);
     return run_diagnosis(lab, model, options, observer, batch);
 }
 

@@ -17,7 +17,12 @@
 //   particle friction mu (0.05..1),
 //   contact bond strength (normal = shear, Pa, linear from 0 = cohesionless to
 //     max(3x the scheme's, 300 kPa)); its nominal is 0 unless the lab's peak strengths
-//     carry a cohesion intercept (lab_macro.hpp).
+//     carry a cohesion intercept (lab_macro.hpp),
+//   compaction friction ratio (0..1): the friction the grains are consolidated at, as a
+//     multiple of theirs (0: frictionless, the densest packing, an early peak and dilation;
+//     1: their own, the loosest, contraction and hardening to late strains), on a packing
+//     grown loose (porosity kDiagnosisGenerationPorosity); held at the lab's relative
+//     density instead when the lab states one (compaction_friction_for).
 // Everything else the scheme sets is held at the scheme's value and listed by held_fixed().
 // Effects and their parameters:
 //   rolling_resistance      -> rolling_friction mu_r (0..0.5, 0 = off)
@@ -42,6 +47,16 @@ class DiagnoseObserver;
 // 0.6 MPa, x = kCrushabilityMax (0.3 MPa) the weakest offered.
 inline constexpr double kCrushabilityReferencePa = 0.6e6;
 inline constexpr double kCrushabilityMax = 2.0;
+// The base grows its packing loose, so that the compaction friction spans dense to loose
+// (bench/base_reach porosity=0.45 compaction=0,1: consolidated porosity 0.370-0.386 and
+// 0.400-0.412; from 0.35 the loose end is not reached).
+inline constexpr double kDiagnosisGenerationPorosity = 0.45;
+// A lab specimen's relative density D_r (0 = loosest, 1 = densest) as the model's
+// compaction friction ratio, 1 - D_r: the same place between the model's loosest
+// (consolidated at the grains' friction) and densest (frictionless) packings. A convention
+// between two materials' scales (a crushed-rock fill's e_min/e_max and a sphere packing's),
+// not an identity; the lab's stated density is held rather than calibrated.
+inline constexpr double compaction_friction_for(double relative_density) { return 1.0 - relative_density; }
 
 class DemForwardModel final : public ForwardModel {
 public:
@@ -49,8 +64,11 @@ public:
     // `cancel` (may be null) is polled inside every DEM run, from the worker threads, so a
     // cancelled diagnosis does not wait for a long run to finish.
     // `packings` >= 1: packings (seeds) whose mean curves are one model run (packing_ensemble.hpp).
+    // `relative_density` (0..1): the lab specimen's, when the lab states it; the compaction
+    // friction is then held at compaction_friction_for(it) instead of calibrated.
     DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads, int max_particles,
-                    const DiagnoseObserver* cancel = nullptr, int packings = 1);
+                    const DiagnoseObserver* cancel = nullptr, int packings = 1,
+                    std::optional<double> relative_density = std::nullopt);
 
     std::vector<ParameterSpec> base_parameters() const override;
     std::vector<ParameterSpec> effect_parameters(Effect e) const override;
@@ -78,6 +96,8 @@ private:
     protocol::TestScheme base_;    // the scheme without the catalog's effects
     const DiagnoseObserver* cancel_ = nullptr;
     int packings_ = 1;
+    std::optional<double> relative_density_;  // the lab's D_r: compaction friction held, not calibrated
+    double compaction_nominal_ = 1.0;          // the calibration's start (from the lab's curves)
     LabDataset simulate_packing(const ModelPoint& point, std::uint64_t seed) const;
     std::vector<Condition> conditions_;
     bool creep_in_lab_ = false;

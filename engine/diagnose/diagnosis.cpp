@@ -20,6 +20,8 @@ void check_options(const DiagnoseOptions& o) {
     if (o.noise_seeds < 1) throw std::invalid_argument("noise_seeds must be at least 1");
     if (o.packings_per_run < 1 || o.packings_per_run > 16)
         throw std::invalid_argument("packings_per_run must be 1..16, got " + std::to_string(o.packings_per_run));
+    if (o.relative_density && !(*o.relative_density >= 0.0 && *o.relative_density <= 1.0))
+        throw std::invalid_argument("relative_density must be 0..1, got " + std::to_string(*o.relative_density));
 }
 
 // A driver with a no-op observer only to read its plan; no run is made.

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -34,6 +35,10 @@ struct DiagnoseOptions {
     int threads_per_run = 1;       // OpenMP threads inside one DEM run
     int max_particles = 0;         // DEM: cap on soil particles per run (0 = the scheme's)
     int packings_per_run = 1;      // DEM: packings averaged into one model run (1..16)
+    // DEM: the lab specimen's relative density D_r (0 = loosest, 1 = densest) when the lab
+    // states it: the model's packing density is held at it (compaction_friction_for) instead
+    // of calibrated.
+    std::optional<double> relative_density;
     std::uint64_t seed = 1;
     // Packings the calibrated base model is run on to measure the noise floor (the
     // calibration's own counts as one; 1 = not measured, every gain is taken at face value).

@@ -120,8 +120,8 @@ T bounded(const json& body, const char* key, T lo, T hi, T fallback) {
     // Range first (as a double, never cast out of range), then integrality.
     const double x = v.get<double>();
     if (!(x >= static_cast<double>(lo) && x <= static_cast<double>(hi)))
-        throw DiagnosisRequestError(pointer, std::string(key) + " must be between " + std::to_string(lo) + " and " +
-                                                 std::to_string(hi) + ", got " + v.dump());
+        throw DiagnosisRequestError(pointer, std::string(key) + " must be between " + json(lo).dump() + " and " +
+                                                 json(hi).dump() + ", got " + v.dump());
     if constexpr (std::is_integral_v<T>) {
         if (std::floor(x) != x) throw DiagnosisRequestError(pointer, std::string(key) + " must be an integer");
         if (v.is_number_integer()) return v.get<T>();
@@ -291,6 +291,9 @@ DiagnoseOptions diagnose_options_from_json(const json& body) {
     o.threads_per_run = bounded(body, "threads_per_run", 1, 64, o.threads_per_run);
     o.max_particles = bounded(body, "max_particles", 0, 1000000, o.max_particles);
     o.packings_per_run = bounded(body, "packings_per_run", 1, 16, o.packings_per_run);
+    // The lab specimen's relative density in % (lab units), absent or null when not stated.
+    if (body.contains("relative_density_percent") && !body["relative_density_percent"].is_null())
+        o.relative_density = bounded(body, "relative_density_percent", 0.0, 100.0, 0.0) / 100.0;
     o.seed = bounded<std::uint64_t>(body, "seed", 0, std::uint64_t{1} << 53, o.seed);
     o.noise_seeds = bounded(body, "noise_seeds", 1, 16, o.noise_seeds);
     o.bic_threshold = bounded(body, "bic_threshold", 0.0, 1e6, o.bic_threshold);
@@ -299,7 +302,7 @@ DiagnoseOptions diagnose_options_from_json(const json& body) {
 }
 
 json diagnose_options_to_json(const DiagnoseOptions& o) {
-    return {{"budget_runs", o.budget_runs},
+    json j{{"budget_runs", o.budget_runs},
             {"refine_runs", o.refine_runs},
             {"max_candidates", o.max_candidates},
             {"max_effects", o.max_effects},
@@ -311,6 +314,8 @@ json diagnose_options_to_json(const DiagnoseOptions& o) {
             {"noise_seeds", o.noise_seeds},
             {"bic_threshold", o.bic_threshold},
             {"finite_difference_uncertainty", o.finite_difference_uncertainty}};
+    j["relative_density_percent"] = o.relative_density ? json(100.0 * *o.relative_density) : json(nullptr);
+    return j;
 }
 
 }  // namespace triax::io

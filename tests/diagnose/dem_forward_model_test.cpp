@@ -55,15 +55,20 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     CHECK(held_named("local_damping"));
 
     const auto specs = model.base_parameters();
-    REQUIRE(specs.size() == 3);  // modulus, friction, bond strength; creep is an effect
+    REQUIRE(specs.size() == 4);  // modulus, friction, bond strength, density; creep is an effect
     CHECK(specs[0].name == "contact_normal_modulus");
     CHECK(specs[0].upper / specs[0].lower == Approx(100.0));  // two decades
     CHECK(specs[1].lower == Approx(0.05));
     CHECK(specs[1].upper == Approx(1.0));
     CHECK(specs[2].name == "bond_strength");
     CHECK(specs[2].lower == 0.0);  // cohesionless allowed
+    CHECK(specs[3].name == "compaction_friction_ratio");
+    CHECK(specs[3].lower == 0.0);  // frictionless: the densest packing
+    CHECK(specs[3].upper == 1.0);  // the grains' own friction: the loosest
+    CHECK(held_named("generation_porosity"));  // grown loose; the compaction gives the density
+    CHECK_FALSE(held_named("compaction_friction_ratio"));  // calibrated, not held
 
-    ModelPoint p{{2.0 * base.micro.normal_modulus_pa, 0.55, 120e3}, {{Effect::RollingResistance, {0.25}}}};
+    ModelPoint p{{2.0 * base.micro.normal_modulus_pa, 0.55, 120e3, 0.44}, {{Effect::RollingResistance, {0.25}}}};
     const TestScheme s = model.scheme_for(p, 200e3);
     CHECK(s.loading.confining_pressure_pa == 200e3);
     CHECK(s.micro.normal_modulus_pa == Approx(2.0 * base.micro.normal_modulus_pa));
@@ -77,6 +82,8 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     CHECK(s.effects.rolling_resistance);
     CHECK(s.effects.rolling_friction == Approx(0.25));
     CHECK(s.max_particles == 300);
+    CHECK(s.specimen.target_porosity == Approx(kDiagnosisGenerationPorosity));
+    CHECK(s.specimen.compaction_friction_ratio == Approx(0.44));
 
     ModelPoint creep{p.base, {{Effect::ContactCreepViscosity, {3.0}}}};
     const TestScheme sc = model.scheme_for(creep, 200e3);
@@ -138,6 +145,55 @@ TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear da
     CHECK(s2.micro.crushing_strength_pa == Approx(1.2e6));
     CHECK(s2.effects.accelerated_bond_corrosion);
     CHECK(s2.effects.bond_corrosion_scale == Approx(3.0));
+}
+
+TEST_CASE("DEM forward model: a lab's relative density holds the packing density", "[diagnose]") {
+    const TestScheme base;
+    CHECK(compaction_friction_for(0.0) == 1.0);  // loosest: consolidated at the grains' friction
+    CHECK(compaction_friction_for(1.0) == 0.0);  // densest: frictionless
+    const DemForwardModel stated(base, shear_conditions({100e3}), 1, 0, nullptr, 1, 0.5);
+    const auto specs = stated.base_parameters();
+    REQUIRE(specs.size() == 3);  // modulus, friction, bond strength: the density is the lab's
+    CHECK(std::none_of(specs.begin(), specs.end(), [](const ParameterSpec& p) { return p.name == "compaction_friction_ratio"; }));
+    const auto held = stated.held_fixed();
+    const auto h = std::find_if(held.begin(), held.end(), [](const HeldParameter& p) { return p.name == "compaction_friction_ratio"; });
+    REQUIRE(h != held.end());
+    CHECK(h->value == Approx(0.5));
+    CHECK_THAT(h->why, Catch::Contains("relative density"));
+    const TestScheme s = stated.scheme_for({{base.micro.normal_modulus_pa, 0.5, 0.0}, {}}, 100e3);
+    CHECK(s.specimen.compaction_friction_ratio == Approx(0.5));
+    CHECK_THROWS_WITH(DemForwardModel(base, shear_conditions({100e3}), 1, 0, nullptr, 1, 1.2),
+                      Catch::Contains("relative density"));
+}
+
+// The lever the calibration has over the curve's shape: consolidated at the grains' own
+// friction the base's packing contracts further in shear than consolidated frictionless
+// (docs/diagnosis.md section 6; bench/base_reach porosity=0.45 compaction=0,1: largest
+// contraction 0.03-0.04 % against 1.2-2.2 %, seeds 1-3, to 15 %).
+TEST_CASE("DEM forward model: the loose base contracts more in shear than the dense one", "[diagnose][dem]") {
+    TestScheme base = reduced_scheme(2.5e-3, 0.04, 3);
+    base.micro.bond_normal_strength_pa = base.micro.bond_shear_strength_pa = 0.0;
+    const LabDataset lab = shear_conditions({100e3}, 0.04);
+    const DemForwardModel model(base, lab, 1, 200);
+    std::vector<double> v;
+    for (const auto& s : model.base_parameters()) v.push_back(s.nominal);
+    REQUIRE(v.size() == 4);
+    v[1] = 0.3;
+    auto largest_contraction = [&](double compaction_friction_ratio, std::uint64_t seed) {
+        std::vector<double> p = v;
+        p[3] = compaction_friction_ratio;
+        const LabDataset out = model.simulate({p, {}}, seed);
+        REQUIRE(out.curves.size() == 1);
+        const auto& ev = out.curves[0].volumetric_strain;
+        REQUIRE(!ev.empty());
+        return *std::max_element(ev.begin(), ev.end());
+    };
+    for (std::uint64_t seed : {1, 2}) {
+        const double dense = largest_contraction(0.0, seed);
+        const double loose = largest_contraction(1.0, seed);
+        INFO("seed " << seed << ": largest contraction dense " << 100 * dense << " %, loose " << 100 * loose << " %");
+        CHECK(loose > dense + 0.002);
+    }
 }
 
 TEST_CASE("DEM forward model: every pressure's shear reaches the lab's last reading (15 %)", "[diagnose][dem]") {

@@ -83,6 +83,21 @@ TEST_CASE("diagnose request options are validated with the field named", "[diagn
         CHECK(e.field == "/budget_runs");
         CHECK_THAT(e.what(), Catch::Contains("between 4 and 400"));
     }
+    // The lab's relative density: % at the edge, a fraction inside; absent or null = not stated.
+    CHECK_FALSE(triax::io::diagnose_options_from_json(nlohmann::json::object()).relative_density);
+    CHECK_FALSE(triax::io::diagnose_options_from_json({{"relative_density_percent", nullptr}}).relative_density);
+    const auto dr = triax::io::diagnose_options_from_json({{"relative_density_percent", 85}});
+    REQUIRE(dr.relative_density);
+    CHECK(*dr.relative_density == Approx(0.85));
+    CHECK(triax::io::diagnose_options_to_json(dr)["relative_density_percent"].get<double>() == Approx(85.0));
+    CHECK(triax::io::diagnose_options_to_json(o)["relative_density_percent"].is_null());
+    try {
+        triax::io::diagnose_options_from_json({{"relative_density_percent", 150}});
+        FAIL("relative_density_percent = 150 was accepted");
+    } catch (const DiagnosisRequestError& e) {
+        CHECK(e.field == "/relative_density_percent");
+        CHECK_THAT(e.what(), Catch::Contains("between 0.0 and 100.0"));
+    }
     CHECK_THROWS_AS(triax::io::diagnose_options_from_json({{"seed", "one"}}), DiagnosisRequestError);
     CHECK_THROWS_AS(triax::io::diagnose_options_from_json({{"concurrency", 1.5}}), DiagnosisRequestError);
     CHECK_THROWS_AS(triax::io::diagnose_options_from_json(nlohmann::json::array()), DiagnosisRequestError);

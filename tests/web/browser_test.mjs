@@ -540,6 +540,15 @@ try {
   }
   check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'out-of-limits budgets queued no diagnosis');
   await page.fill('#diagnose-budget-runs', '24');
+  // The lab's relative density is optional (blank: calibrated); a stated one out of 0-100 %
+  // is the server's 422 beside that field.
+  await page.fill('#diagnose-relative-density-percent', '150');
+  await page.click('#diagnose-button');
+  await page.waitForFunction(() => document.querySelector('#diagnose-relative-density-percent-error')?.textContent.length > 0, null, { timeout: 10000 }).catch(() => {});
+  const drMsg = await page.textContent('#diagnose-relative-density-percent-error');
+  check(drMsg.includes('relative_density_percent'), `D_r 150 %: the server's 422 names the field beside it (${drMsg})`);
+  check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'an out-of-range D_r queued no diagnosis');
+  await page.fill('#diagnose-relative-density-percent', '');
   await page.waitForFunction(() => /DEM runs/.test(document.querySelector('#diagnose-cost')?.textContent || '') &&
     /min|h/.test(document.querySelector('#diagnose-cost')?.textContent || ''), null, { timeout: 10000 }).catch(() => {});
   const cost = await page.textContent('#diagnose-cost');
