@@ -168,6 +168,11 @@ int main(int argc, char** argv) {
                     if (b.curve == a.curve && b.phase == a.phase) before = b.nrmse;
                 std::printf("           %-24s NRMSE %.1f %% -> %.1f %%\n", a.curve.c_str(), 100 * before, 100 * a.nrmse);
             }
+            // Every effect considered: its signature score, its fit's delta BIC, and why it was
+            // or was not kept.
+            for (const auto& cd : r.candidates)
+                std::printf("           step %d candidate %-24s score %.2f  dBIC %.1f  %s\n", cd.step, cd.effect.c_str(),
+                            cd.signature_score, cd.delta_bic_vs_base, cd.note.c_str());
         } catch (const std::exception& e) {
             std::printf("%-8s failed: %s\n", c.name, e.what());
         }
