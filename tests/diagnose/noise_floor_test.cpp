@@ -53,6 +53,14 @@ TEST_CASE("model scatter: the spread of replicate residuals, unreached readings 
     CHECK(f.model_nrmse == Approx(0.1));
     REQUIRE(f.model_nrmse_per_curve.size() == 1);
     CHECK(f.tolerance_nrmse == Approx(std::sqrt(2.0 * 0.01 + f.lab_nrmse * f.lab_nrmse)));
+    // A packing that runs away at some readings (a creep stage into tertiary creep, 50 lab
+    // ranges off): each reading's variance is capped at one lab range squared, so the floor
+    // stays a floor (here at most sqrt((n - 10) 0.01 + 10) / sqrt(n)).
+    auto runaway = reps;
+    for (std::size_t i = 0; i < 10; ++i) runaway[1][i] = 50.0;
+    const NoiseFloor capped = noise_floor(layout, runaway);
+    CHECK(capped.model_nrmse <= std::sqrt(((n - 10) * 0.01 + 10.0) / static_cast<double>(n)) + 1e-12);
+    CHECK(capped.model_nrmse > f.model_nrmse);  // still wider than without the runaway
     // One packing only: no scatter can be measured, the tolerance is the lab's noise.
     const NoiseFloor one = noise_floor(layout, {std::vector<double>(n, 0.0)});
     CHECK(one.seeds == 1);
