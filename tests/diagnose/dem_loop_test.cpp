@@ -62,8 +62,7 @@ Case run_case(const CaseSpec& cs) {
     // The lab states its specimen's density: these cases test an effect against the base at
     // a known density, as a lab that reports D_r has it (a calibrated density trades with
     // rolling resistance on 3 % of strain).
-    const double relative_density = kCaseRelativeDensity;
-    const DemForwardModel model(base, shear_conditions(cs.confining_pa, 0.03), 1, 0, nullptr, 1, relative_density);
+    const DemForwardModel model(base, shear_conditions(cs.confining_pa, 0.03), 1, 0, nullptr, 1, kCaseRelativeDensity);
     std::vector<double> truth;
     for (const auto& s : model.base_parameters()) truth.push_back(s.nominal);
     for (std::size_t j = 0; j < truth.size() && j < cs.truth_scale.size(); ++j) truth[j] *= cs.truth_scale[j];
@@ -265,8 +264,7 @@ TEST_CASE("DEM data: floor of the crushing case at the true parameters, both pac
     for (auto [lab_seed, model_seed] : {std::pair<std::uint64_t, std::uint64_t>{7, 11}, {13, 17}}) {
         CaseSpec cs = crushing_case({{Effect::BondDegradation, {0.75}}});
         const TestScheme base = reduced_scheme(cs.r_min_m, 0.03, model_seed);
-        const double relative_density = kCaseRelativeDensity;
-        const DemForwardModel model(base, shear_conditions(cs.confining_pa, 0.03), 1, 0, nullptr, 1, relative_density);
+        const DemForwardModel model(base, shear_conditions(cs.confining_pa, 0.03), 1, 0, nullptr, 1, kCaseRelativeDensity);
         std::vector<double> truth;
         for (const auto& s : model.base_parameters()) truth.push_back(s.nominal);
         SyntheticLabOptions lo;
