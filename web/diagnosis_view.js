@@ -23,22 +23,22 @@ const ACTIVE = new Set(['queued', 'running']);
 // The diagnosis's parameters (engine/diagnose: base_parameters, effect_parameters) in the
 // form's words and lab units, and how each one changes the scheme for "run with these
 // parameters" (as DemForwardModel::scheme_for and the artefacts apply them).
-const scaleBonds = (s, k) => { s.micro.bond_normal_strength_kPa *= k; s.micro.bond_shear_strength_kPa *= k; };
 export const PARAMETERS = {
   contact_normal_modulus: { label: 'normal modulus', unit: 'MPa', factor: 1e-6, field: '/micro/normal_modulus_MPa',
     apply: (s, v) => { const r = s.micro.shear_modulus_MPa / s.micro.normal_modulus_MPa; s.micro.normal_modulus_MPa = v / 1e6; s.micro.shear_modulus_MPa = r * v / 1e6; } },
   friction: { label: 'friction', unit: '–', factor: 1, field: '/micro/friction', apply: (s, v) => { s.micro.friction = v; } },
-  bond_strength_scale: { label: 'bond normal and shear strength × ', unit: '×', factor: 1, field: '/micro/bond_normal_strength_kPa', apply: scaleBonds },
-  creep_slip_rate_scale: { label: 'slip rate a × ', unit: '×', factor: 1, field: '/creep/slip_rate_a_m_s', apply: (s, v) => { s.creep.slip_rate_a_m_s *= v; } },
+  bond_strength: { label: 'bond normal and shear strength', unit: 'kPa', factor: 1e-3, field: '/micro/bond_normal_strength_kPa',
+    apply: (s, v) => { s.micro.bond_normal_strength_kPa = v / 1e3; s.micro.bond_shear_strength_kPa = v / 1e3; } },
+  compaction_friction_ratio: { label: 'compaction friction ratio', unit: '–', factor: 1, field: '/specimen/compaction_friction_ratio',
+    apply: (s, v) => { s.specimen ||= {}; s.specimen.compaction_friction_ratio = v; } },
   rolling_friction: { label: 'rolling friction', unit: '–', factor: 1, field: '/micro/rolling_friction',
     apply: (s, v) => { s.micro.rolling_friction = v; s.effects.rolling_resistance = true; s.effects.rolling_friction = v; } },
   grain_crushability: { label: 'crushing strength (from crushability 0.6 MPa / x)', unit: 'MPa', value: v => (v > 0 ? 0.6 / v : 0), field: '/micro/crushing_strength_MPa',
     apply: (s, v) => { s.micro.crushing_strength_MPa = v > 0 ? 0.6 / v : 0; } },
   extra_bond_damage_rate: { label: 'breakage damage scale (1 + x)', unit: '–', value: v => 1 + v, field: '/effects/breakage_damage_scale',
     apply: (s, v) => { if (v > 0) { s.effects.grain_breakage = true; s.effects.breakage_damage_scale = 1 + v; } } },
-  viscosity_scale: { label: 'viscosity scale', unit: '–', factor: 1, field: '/effects/viscosity_scale',
-    apply: (s, v) => { s.effects.contact_creep_viscosity = true; s.effects.viscosity_scale = v; } },
-  moisture_bond_strength_scale: { label: 'bond strength from moisture × ', unit: '×', factor: 1, field: '/micro/bond_shear_strength_kPa', apply: scaleBonds },
+  slip_hardening_length: { label: 'creep slip-hardening length', unit: 'µm', factor: 1e6, field: '/creep/slip_hardening_length_um',
+    apply: (s, v) => { s.effects.contact_creep_viscosity = v > 0; if (v > 0) s.creep.slip_hardening_length_um = v * 1e6; } },
   seating_strain: { label: 'seating displacement (strain × height)', unit: 'mm', scheme: (s, v) => v * s.specimen.height_mm, field: '/effects/seating_displacement_mm',
     apply: (s, v) => { s.effects.seating_error = true; s.effects.seating_displacement_mm = v * s.specimen.height_mm; } },
   membrane_stiffness: { label: 'membrane stiffness', unit: 'kPa', factor: 1e-3, field: '/effects/membrane_modulus_kPa',
@@ -65,7 +65,7 @@ export function applyParameters(scheme, parameters) {
 // carry them). The browser test sends values just outside them and expects the 422.
 export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53], relative_density_percent: [0, 100] };
 // The diagnosis's own defaults (engine/diagnose/diagnosis.hpp DiagnoseOptions).
-const DEFAULTS = { refine_runs: 10, max_candidates: 3, max_effects: 3, concurrency: 1, packings_per_run: 1 };
+const DEFAULTS = { refine_runs: 3, max_candidates: 2, max_effects: 2, packings_per_run: 1 };
 
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
 const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);
@@ -108,8 +108,8 @@ export class DiagnosisView {
         el('div', { class: 'row' },
           el('label', {}, 'dataset ', this.datasetSelect), el('label', {}, 'scheme of run ', this.runSelect)),
         el('div', { class: 'row' },
-          field('budget_runs', 'calibration budget', 'DEM runs', 24),
-          field('max_particles', 'max particles per run', '', 0, '0 = as in the scheme'),
+          field('budget_runs', 'calibration budget', 'DEM runs', 12),
+          field('max_particles', 'max particles per run', '', 200, 'the calibration specimen; 0 = as in the scheme'),
           field('seed', 'seed', '', 1),
           field('relative_density_percent', 'specimen relative density D_r', '%', '',
             'blank = not stated: the model calibrates its packing density; stated, it is held')),
@@ -194,7 +194,7 @@ export class DiagnosisView {
       // lands beside the field it names.
       const value = key => Number(this.fields[key].input.value);
       body = { scheme_id: schemeId, budget_runs: value('budget_runs'), seed: value('seed') };
-      if (value('max_particles') !== 0) body.max_particles = value('max_particles');
+      body.max_particles = value('max_particles');
       if (this.fields.relative_density_percent.input.value !== '') body.relative_density_percent = value('relative_density_percent');
     }
     try {

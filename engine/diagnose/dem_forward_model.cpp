@@ -43,12 +43,14 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     base_.specimen.target_porosity = kDiagnosisGenerationPorosity;
     if (relative_density) base_.specimen.compaction_friction_ratio = compaction_friction_for(*relative_density);
     if (threads > 0) base_.threads = threads;
-    // The calibration specimen is the scheme's (max_particles > 0 caps its grains). A coarser
-    // membrane (D / 12) and a faster shear (I = 1e-3) cut a run's particle-steps 3.4x
+    // The calibration specimen is the scheme's (max_particles > 0 caps its grains, never
+    // above the scheme's own cap). A coarser membrane (D / 12) and a faster shear
+    // (I = 1e-3) cut a run's particle-steps 3.4x
     // (bench/forward_run_cost) but raised the packing scatter of the CI rolling-resistance
     // case from 4.4 % to 11 %, and the effect was no longer named: not adopted
     // (docs/diagnosis.md, section 6).
-    if (max_particles > 0) base_.max_particles = max_particles;
+    if (max_particles > 0)
+        base_.max_particles = base_.max_particles > 0 ? std::min(base_.max_particles, max_particles) : max_particles;
     // No membrane lattice: sigma3 acts on the outermost grains. The bonded membrane's springs
     // add k eps_r / R of confinement (80 kPa at 10 % radial strain on a 50 mm specimen) and
     // kept the base above 40 deg at grain friction 0.05; a lab's latex membrane is the
@@ -176,8 +178,9 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
                      "the scheme's crushable grains (" + std::to_string(m.crushing_strength_pa / 1e6) +
                          " MPa) are off in the base: grain breakage is tested as an effect"});
     if (creep_in_lab_) {
-        h.push_back({"slip_beta", "-", scheme_.creep.slip_beta, "the creep law's shape; the creep effect scales its rate"});
-        h.push_back({"slip_hardening_length", "m", scheme_.creep.slip_hardening_length_m, "the creep law's capacity"});
+        h.push_back({"slip_beta", "-", scheme_.creep.slip_beta, "the creep law's shape"});
+        h.push_back({"slip_rate_a", "m/s", scheme_.creep.slip_rate_a_m_s,
+                     "the creep law's rate; the creep effect fits its capacity (the slip-hardening length)"});
         h.push_back({"bond_corrosion_rate_b1", "1/s", scheme_.creep.bond_corrosion_rate_b1_per_s, "the bonds' stress corrosion rate"});
     }
     return h;
@@ -223,7 +226,18 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
         case Effect::ContactCreepViscosity:
             // Without lab creep curves the mechanism cannot be seen: do not propose it.
             if (!creep_in_lab_) return {};
-            return {{"viscosity_scale", "-", 0.01, 100.0, 1.0, true}};
+            // Time-dependent contact slip, switched on with the creep law's capacity: the
+            // slip-hardening length s_h, how far a contact creeps before it hardens (0 = off,
+            // the base without creep; nominal = the scheme's). The capacity sets how much a
+            // stage creeps; the rate A only brings the same capacity sooner. On the ~200-grain
+            // specimen, 4-h stages (bench/creep_explore gp=1): at S 0.8 A x100 moved 0.0074 to
+            // 0.0104 mm, s_h x3 / x5 gave 0.032 / 0.068 mm, s_h x10 ruptured the stage after
+            // 1.2 h. Linear up to 8x the scheme's, so the fit's line search (off, nominal,
+            // further) spans the stable range and the rupture edge.
+            {
+                const double sh = base_.creep.slip_hardening_length_m;
+                return {{"slip_hardening_length", "m", 0.0, 8.0 * sh, sh, false, true}};
+            }
         default: return {};
     }
 }
@@ -258,8 +272,11 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
                 }
                 break;
             case Effect::ContactCreepViscosity:
-                s.effects.contact_creep_viscosity = true;
-                s.effects.viscosity_scale = v[0];
+                if (v[0] < 0.0) throw std::invalid_argument("slip_hardening_length must be >= 0");
+                // 0 is the base without creep (the law off), so base runs seed the fit.
+                s.effects.contact_creep_viscosity = v[0] > 0.0;
+                s.effects.viscosity_scale = 1.0;
+                if (v[0] > 0.0) s.creep.slip_hardening_length_m = v[0];
                 break;
             default:
                 throw std::invalid_argument("DEM forward model: '" + std::string(effect_name(e)) +

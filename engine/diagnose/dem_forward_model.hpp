@@ -30,8 +30,8 @@
 //                              unbreakable); with creep curves of a bonded specimen also extra
 //                              bond damage e (0..9): effects.accelerated_bond_corrosion,
 //                              bond_corrosion_scale 1 + e
-//   contact_creep_viscosity -> the creep law on, its rate scaled (log 0.01..100); offered
-//                              only with creep curves
+//   contact_creep_viscosity -> the creep law on with slip-hardening length s_h (0..8x the
+//                              scheme's, 0 = no creep); offered only with creep curves
 //   moisture_bonding        -> not offered: the base calibrates the bond strength from 0
 // Every run uses the given seed (common random numbers: the same packings for every parameter
 // set, so differences between runs are the parameters', not the packing's); a run is the

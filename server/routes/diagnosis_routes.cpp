@@ -2,6 +2,8 @@
 // POST /diagnoses/{id}/cancel, POST /diagnoses/{id}/rerun, GET /diagnoses/{id}/events
 // (SSE: status, progress, candidate, done, error). The handlers parse and validate; the
 // job lifecycle is DiagnosisService's (server/diagnoses).
+#include <algorithm>
+
 #include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
 #include "server/http/sse.hpp"
@@ -35,8 +37,17 @@ void register_diagnosis_routes(Service& s) {
                 return json::parse(st.text(0));
             });
         }
+        json options = body;
+        options.erase("scheme");
+        options.erase("scheme_id");
         try {
-            const auto opts = io::diagnose_options_from_json(body);
+            auto opts = io::diagnose_options_from_json(body);
+            // Unless the request sets it, a diagnosis runs the default number of DEM runs at
+            // once, or as many as the machine's threads allow; the stored options record it.
+            if (!body.contains("concurrency")) {
+                opts.concurrency = std::clamp(s.config.max_threads_per_run / opts.threads_per_run, 1, opts.concurrency);
+                options["concurrency"] = opts.concurrency;
+            }
             // A diagnosis occupies one worker but may run `concurrency` DEM runs of
             // `threads_per_run` threads each: keep that within the machine.
             const int threads = opts.concurrency * opts.threads_per_run;
@@ -48,9 +59,6 @@ void register_diagnosis_routes(Service& s) {
         } catch (const io::DiagnosisRequestError& e) {
             throw unprocessable(e.what()).at_field(e.field);
         }
-        json options = body;
-        options.erase("scheme");
-        options.erase("scheme_id");
         const json request{{"scheme", scheme}, {"options", options}};
         const auto out = s.diagnoses.submit(dataset_id, request);
         res.set_header("Location", "/diagnoses/" + std::to_string(out["id"].get<std::int64_t>()));

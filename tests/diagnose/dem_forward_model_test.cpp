@@ -45,6 +45,11 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     CHECK_THAT(model.not_offered_reason(Effect::MoistureBonding), Catch::Contains("from 0"));
     REQUIRE(model.effect_parameters(Effect::RollingResistance).size() == 1);
     REQUIRE(model.effect_parameters(Effect::ContactCreepViscosity).size() == 1);
+    const ParameterSpec creep_spec = model.effect_parameters(Effect::ContactCreepViscosity).front();
+    CHECK(creep_spec.name == "slip_hardening_length");
+    CHECK(creep_spec.lower_is_off);  // 0 = no creep: the base
+    CHECK(creep_spec.nominal == Approx(base.creep.slip_hardening_length_m));
+    CHECK(creep_spec.upper == Approx(8.0 * base.creep.slip_hardening_length_m));
 
     const auto held = model.held_fixed();
     auto held_named = [&](const std::string& n) {
@@ -85,10 +90,17 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     CHECK(s.specimen.target_porosity == Approx(kDiagnosisGenerationPorosity));
     CHECK(s.specimen.compaction_friction_ratio == Approx(0.44));
 
-    ModelPoint creep{p.base, {{Effect::ContactCreepViscosity, {3.0}}}};
+    // The creep effect is the creep law switched on with its capacity s_h; 0 is the base
+    // without creep, so the base's runs are the effect's runs at 0.
+    ModelPoint creep{p.base, {{Effect::ContactCreepViscosity, {6e-6}}}};
     const TestScheme sc = model.scheme_for(creep, 200e3);
     CHECK(sc.effects.contact_creep_viscosity);
-    CHECK(sc.effects.viscosity_scale == Approx(3.0));
+    CHECK(sc.effects.viscosity_scale == 1.0);  // the scheme's rate
+    CHECK(sc.creep.slip_hardening_length_m == Approx(6e-6));
+    const TestScheme off = model.scheme_for(ModelPoint{p.base, {{Effect::ContactCreepViscosity, {0.0}}}}, 200e3);
+    CHECK_FALSE(off.effects.contact_creep_viscosity);
+    CHECK_THROWS_WITH(model.scheme_for(ModelPoint{p.base, {{Effect::ContactCreepViscosity, {-1e-6}}}}, 200e3),
+                      Catch::Contains("slip_hardening_length"));
 
     ModelPoint bad{{1.0, 0.5}, {}};
     CHECK_THROWS_WITH(model.scheme_for(bad, 100e3), Catch::Contains("base parameters"));

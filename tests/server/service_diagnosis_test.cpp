@@ -64,7 +64,10 @@ TEST_CASE("finite_difference_uncertainty is read from the diagnose body, type-ch
     CHECK(got_off["finite_difference_uncertainty"] == false);
     CHECK(got_off["budget_runs"] == 6);
     CHECK(got_dflt["finite_difference_uncertainty"] == true);  // the engine's default
-    CHECK(got_dflt["budget_runs"] == 24);
+    CHECK(got_dflt["budget_runs"] == 12);
+    // Concurrency not given: the default, within the machine's threads, recorded as used.
+    CHECK(got_dflt["concurrency"].get<int>() >= 1);
+    CHECK(got_dflt["concurrency"].get<int>() <= 2);
     for (const auto& id : {off.body["id"], dflt.body["id"]})
         REQUIRE(srv.post("/diagnoses/" + std::to_string(id.get<long long>()) + "/cancel", std::string()).status == 202);
     control.hold = false;
