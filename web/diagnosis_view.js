@@ -2,7 +2,8 @@
 // compliance, ...) best explains the misfit between a scheme and a dataset, and show the
 // report: chosen effect, fitted parameters in the form's words and lab units, error before
 // and after as a chart by curve and phase, delta-BIC, verdict; "run with these parameters"
-// and "re-run". Before start: the cost (DEM runs and minutes, from POST /estimate). While
+// and "re-run". Before start: the cost (model and DEM runs, minutes), from the service's
+// plan of the request start() would send (POST /datasets/{id}/diagnosis-plan). While
 // it runs: the stream /diagnoses/{id}/events (progress, candidate, done, error) with an ETA
 // from the progress rate, and polling of GET /diagnoses/{id} for the final report.
 
@@ -64,8 +65,6 @@ export function applyParameters(scheme, parameters) {
 // (diagnose_options_from_json in server/io/diagnosis_json.cpp; GET /openapi.json does not
 // carry them). The browser test sends values just outside them and expects the 422.
 export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53], relative_density_percent: [0, 100] };
-// The diagnosis's own defaults (engine/diagnose/diagnosis.hpp DiagnoseOptions).
-const DEFAULTS = { refine_runs: 3, max_candidates: 2, max_effects: 2, packings_per_run: 1 };
 
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
 const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);
@@ -76,7 +75,6 @@ export class DiagnosisView {
     this.timer = null;
     this.source = null;
     this.diagnosisId = null;
-    this.runs = [];
     this.build();
     this.refreshLists();
   }
@@ -119,44 +117,58 @@ export class DiagnosisView {
       el('section', { class: 'card' }, el('h3', {}, 'Progress'), this.progress, this.candidates),
       el('section', { class: 'card' }, el('h3', {}, 'Report'), this.report),
       el('section', { class: 'card' }, el('h3', {}, 'Earlier diagnoses'), this.list));
-    const recost = () => { clearTimeout(this.costTimer); this.costTimer = setTimeout(() => this.estimateCost(), 300); };
+    const recost = () => { this.clearCostData(); clearTimeout(this.costTimer); this.costTimer = setTimeout(() => this.estimateCost(), 300); };
     for (const f of Object.values(this.fields)) f.input.addEventListener('input', recost);
     this.runSelect.addEventListener('change', recost);
+    this.datasetSelect.addEventListener('change', recost);
   }
 
-  // Runs as the diagnosis plans them (engine/diagnose/diagnosis.cpp, planned_runs_):
-  // budget + 2 (base + 2) + max_effects (effects + (max_candidates + 1) refine_runs), with
-  // the DEM model's 4 base parameters and 4 physical effects: the most it can use. The
-  // least: the calibration alone (budget + 2 (base + 2)); each times the packings averaged
-  // into a model run. Minutes from POST /estimate of
-  // the run's scheme on the base's grain-pressure boundary, per DEM run and lab condition.
+  // The body of POST /datasets/{id}/diagnose from the form, or null without a run to take
+  // the scheme from. Out-of-limits values are sent as typed: the server is the authority.
+  requestBody() {
+    const schemeId = Number(this.runSelect.value);
+    if (!schemeId) return null;
+    const value = key => Number(this.fields[key].input.value);
+    const body = { scheme_id: schemeId, budget_runs: value('budget_runs'), seed: value('seed'), max_particles: value('max_particles') };
+    if (this.fields.relative_density_percent.input.value !== '') body.relative_density_percent = value('relative_density_percent');
+    return body;
+  }
+
+  // The plan's numbers on #diagnose-cost belong to the form as it was: gone while it changes.
+  clearCostData() {
+    for (const k of ['runsLow', 'runsHigh', 'minutesLow', 'minutesHigh']) delete this.cost.dataset[k];
+  }
+
+  // The cost of the diagnosis start() would request, as the service plans it
+  // (POST /datasets/{id}/diagnosis-plan, docs/api.md): model runs from the engine's plan
+  // (the low end: calibration, noise floor, base uncertainty; at most: every candidate),
+  // each one DEM run per lab condition (σ3) and packing, and minutes for the whole
+  // diagnosis at the concurrency it would use. Only the newest answer is shown.
   async estimateCost() {
-    const run = this.runs.find(r => String(r.scheme_id) === this.runSelect.value);
-    const budget = Number(this.fields.budget_runs.input.value);
-    // Modulus, friction, bond strength and, unless the lab states D_r, the compaction friction.
-    const base = this.fields.relative_density_percent.input.value === '' ? 4 : 3, physical = 4;
-    // Each model run is the mean of packings_per_run packings (packing_ensemble.hpp).
-    const runsAtLeast = DEFAULTS.packings_per_run * (budget + 2 * (base + 2));
-    const runsUpTo = runsAtLeast +
-      DEFAULTS.packings_per_run * DEFAULTS.max_effects * (physical + (DEFAULTS.max_candidates + 1) * DEFAULTS.refine_runs);
-    this.cost.dataset.runsLow = String(runsAtLeast);
-    this.cost.dataset.runsHigh = String(runsUpTo);
-    const parts = [el('strong', {}, 'Cost: '), `${runsAtLeast} to ${runsUpTo} DEM runs per lab condition (σ3)`];
-    if (run) {
-      try {
-        const { scheme } = await getJSON(`/schemes/${run.scheme_id}`);
-        const mp = Number(this.fields.max_particles.input.value);
-        if (mp > 0) scheme.max_particles = mp;
-        // The diagnosis's base runs without the membrane (dem_forward_model.cpp).
-        scheme.specimen = { ...(scheme.specimen || {}), lateral_boundary: 'grain_pressure' };
-        const e = await postJSON('/estimate', scheme);
-        const m = e.minutes_estimate;
-        parts.push(` · each ≈ ${e.grains} grains, ${rangeText(m.low, m.high)}`,
-          ` · in all about ${rangeText(m.low * runsAtLeast, m.high * runsUpTo)}`);
-        this.cost.dataset.minutesLow = String(m.low * runsAtLeast);
-      } catch (err) { parts.push(` · minutes unknown: ${err.message}`); }
+    const seq = this.costSeq = (this.costSeq || 0) + 1;
+    const datasetId = Number(this.datasetSelect.value), body = this.requestBody();
+    this.clearCostData();
+    if (!datasetId || !body) {
+      this.cost.replaceChildren(el('span', { class: 'hint' }, 'pick a dataset and a run to see the cost'));
+      return;
     }
-    this.cost.replaceChildren(...parts);
+    try {
+      const plan = await postJSON(`/datasets/${datasetId}/diagnosis-plan`, body);
+      if (seq !== this.costSeq) return;
+      const m = plan.minutes_estimate, o = plan.options;
+      const pressures = plan.lab_conditions.map(c => `${num(c.confining_kPa)} kPa`).join(', ');
+      const engineRuns = plan.engine_runs_per_model_run * o.packings_per_run;
+      this.cost.dataset.runsLow = String(plan.model_runs_low);
+      this.cost.dataset.runsHigh = String(plan.model_runs_at_most);
+      this.cost.dataset.minutesLow = String(m.low);
+      this.cost.dataset.minutesHigh = String(m.high);
+      this.cost.replaceChildren(el('strong', {}, 'Cost: '),
+        `${plan.model_runs_low} to ${plan.model_runs_at_most} model runs, each ${engineRuns} DEM run${engineRuns === 1 ? '' : 's'} of ≈ ${plan.grains} grains (σ3 ${pressures})`,
+        ` · in all about ${rangeText(m.low, m.high)} with ${o.concurrency} at once`);
+    } catch (err) {
+      if (seq !== this.costSeq) return;
+      this.cost.replaceChildren(el('strong', {}, 'Cost: '), `unknown (${err.problem?.field ? err.problem.field + ': ' : ''}${err.message})`);
+    }
   }
 
   async refreshLists() {
@@ -164,7 +176,6 @@ export class DiagnosisView {
     try {
       const [runs, datasets, diag] = await Promise.all([getAll('/runs', 'runs'), getAll('/datasets', 'datasets'), getJSON('/diagnoses').catch(() => ({ diagnoses: [] }))]);
       if (seq !== this.listSeq) return;
-      this.runs = runs;
       const keep = this.runSelect.value;
       this.runSelect.replaceChildren(...runs.filter(r => r.scheme_id != null)
         .map(r => el('option', { value: r.scheme_id }, `#${r.id} ${r.name || ''} (scheme ${r.scheme_id})`)));
@@ -188,14 +199,9 @@ export class DiagnosisView {
     for (const f of Object.values(this.fields)) f.error.textContent = '';
     datasetId ??= Number(this.datasetSelect.value);
     if (!body) {
-      const schemeId = Number(this.runSelect.value);
-      if (!datasetId || !schemeId) { this.error.textContent = 'pick a dataset and a run whose scheme to use'; return; }
-      // Out-of-limits values are sent as typed: the server is the authority and its 422
-      // lands beside the field it names.
-      const value = key => Number(this.fields[key].input.value);
-      body = { scheme_id: schemeId, budget_runs: value('budget_runs'), seed: value('seed') };
-      body.max_particles = value('max_particles');
-      if (this.fields.relative_density_percent.input.value !== '') body.relative_density_percent = value('relative_density_percent');
+      // The server's 422 lands beside the field it names.
+      body = this.requestBody();
+      if (!datasetId || !body) { this.error.textContent = 'pick a dataset and a run whose scheme to use'; return; }
     }
     try {
       const res = await postJSON(`/datasets/${datasetId}/diagnose`, body);

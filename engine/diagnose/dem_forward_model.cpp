@@ -295,12 +295,10 @@ LabDataset DemForwardModel::simulate(const ModelPoint& point, std::uint64_t seed
     return mean_over_packings(each);
 }
 
-LabDataset DemForwardModel::simulate_packing(const ModelPoint& point, std::uint64_t seed) const {
-    LabDataset out;
-    out.name = base_.name;
+std::vector<DemForwardModel::EngineRun> DemForwardModel::engine_runs(const ModelPoint& point) const {
+    std::vector<EngineRun> out;
     for (const auto& k : conditions_) {
         protocol::TestScheme s = scheme_for(point, k.confining_pa);
-        s.seed = seed;
         if (k.creep) {
             s.loading.stress_levels = k.stress_levels;
             s.loading.stage_durations_s = k.durations_s;
@@ -311,8 +309,21 @@ LabDataset DemForwardModel::simulate_packing(const ModelPoint& point, std::uint6
             s.loading.max_axial_strain = k.max_axial_strain;
             s.loading.stop_at_softening = false;
         }
+        out.push_back({std::move(s), k.creep ? protocol::Phase::Creep : protocol::Phase::Shear});
+    }
+    return out;
+}
+
+LabDataset DemForwardModel::simulate_packing(const ModelPoint& point, std::uint64_t seed) const {
+    LabDataset out;
+    out.name = base_.name;
+    const auto runs = engine_runs(point);
+    for (std::size_t i = 0; i < conditions_.size(); ++i) {
+        const Condition& k = conditions_[i];
+        protocol::TestScheme s = runs[i].scheme;
+        s.seed = seed;
         CancelOnly observer(cancel_);
-        const auto r = protocol::run_triaxial_test(s, observer, k.creep ? protocol::Phase::Creep : protocol::Phase::Shear);
+        const auto r = protocol::run_triaxial_test(s, observer, runs[i].last_phase);
         if (r.cancelled) throw DiagnosisCancelled{};
         if (!r.converged && r.shear.empty())
             throw std::runtime_error("DEM run at " + std::to_string(k.confining_pa / 1e3) + " kPa did not shear");

@@ -38,6 +38,7 @@
 // mean of `packings` packings (packing_ensemble.hpp).
 #include "engine/diagnose/forward_model.hpp"
 #include "engine/protocol/test_scheme.hpp"
+#include "engine/protocol/triaxial_test.hpp"
 
 namespace triax::diagnose {
 
@@ -82,6 +83,16 @@ public:
     // The scheme a model point runs at one confining pressure (exposed for tests and for
     // storing the calibrated scheme).
     protocol::TestScheme scheme_for(const ModelPoint& point, double confining_pa) const;
+
+    // The engine runs of one model run at `point` (one packing, seed not set): per lab
+    // condition the scheme as simulate() runs it (the lab's shear end and creep stages) and
+    // the protocol phase it runs to (Shear where the lab has no creep curve there; the
+    // scheme's creep stages are then not run). A cost estimate reads these.
+    struct EngineRun {
+        protocol::TestScheme scheme;
+        protocol::Phase last_phase = protocol::Phase::Shear;
+    };
+    std::vector<EngineRun> engine_runs(const ModelPoint& point) const;
 
 private:
     struct Condition {

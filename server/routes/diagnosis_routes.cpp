@@ -1,9 +1,12 @@
-// POST /datasets/{id}/diagnose, GET /diagnoses, GET /diagnoses/{id},
+// POST /datasets/{id}/diagnose, POST /datasets/{id}/diagnosis-plan (its runs and minutes,
+// starting nothing), GET /diagnoses, GET /diagnoses/{id},
 // POST /diagnoses/{id}/cancel, POST /diagnoses/{id}/rerun, GET /diagnoses/{id}/events
 // (SSE: status, progress, candidate, done, error). The handlers parse and validate; the
 // job lifecycle is DiagnosisService's (server/diagnoses).
 #include <algorithm>
+#include <stdexcept>
 
+#include "server/diagnoses/diagnosis_plan.hpp"
 #include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
 #include "server/http/sse.hpp"
@@ -17,52 +20,99 @@ namespace triax::service {
 
 using nlohmann::json;
 
+namespace {
+
+// The body of POST /datasets/{id}/diagnose and /diagnosis-plan, checked: the scheme (inline
+// or by id), the options with `concurrency` filled in when absent, and the dataset. 404 for
+// an unknown dataset or scheme_id, 422 naming the field otherwise.
+struct DiagnoseRequest {
+    std::int64_t dataset_id = 0;
+    diagnose::LabDataset lab;
+    json scheme;                   // the scheme document (lab units), as a diagnosis stores it
+    protocol::TestScheme parsed;
+    json options;                  // the body without the scheme, `concurrency` recorded
+    diagnose::DiagnoseOptions opts;
+};
+
+// `store_inline`: an inline scheme is stored (a diagnosis refers to it) or only validated
+// (the plan starts and stores nothing); the checks are the same.
+DiagnoseRequest read_diagnose_request(Service& s, const httplib::Request& req, bool store_inline) {
+    DiagnoseRequest r;
+    r.dataset_id = path_id(req);
+    r.lab = load_dataset(s, r.dataset_id, nullptr);  // 404 early
+    const auto body = parse_body(req);
+    if (!body.is_object()) throw unprocessable("the body must be a JSON object").at_field("");
+    const bool inline_scheme = body.contains("scheme"), by_id = body.contains("scheme_id");
+    if (inline_scheme == by_id) throw unprocessable("give exactly one of 'scheme' or 'scheme_id'").at_field("/scheme");
+    if (inline_scheme) {
+        if (store_inline) {
+            r.scheme = store_scheme(s, body["scheme"], "/scheme")["scheme"];
+            r.parsed = io::scheme_from_json(r.scheme);
+        } else {
+            r.parsed = validated_scheme(s, body["scheme"], "/scheme");
+            r.scheme = io::scheme_to_json(r.parsed);
+        }
+    } else {
+        if (!body["scheme_id"].is_number_integer()) throw unprocessable("scheme_id must be an integer").at_field("/scheme_id");
+        r.scheme = s.db.with([&](Database& db) {
+            auto st = db.prepare("SELECT scheme_json FROM schemes WHERE id = ?");
+            st.bind_all(body["scheme_id"].get<std::int64_t>());
+            if (!st.step()) throw not_found("scheme does not exist").at_field("/scheme_id");
+            return json::parse(st.text(0));
+        });
+        // Stored schemes passed validated_scheme when they were stored.
+        r.parsed = io::scheme_from_json(r.scheme);
+    }
+    r.options = body;
+    r.options.erase("scheme");
+    r.options.erase("scheme_id");
+    try {
+        r.opts = io::diagnose_options_from_json(body);
+        // Unless the request sets it, a diagnosis runs the default number of DEM runs at
+        // once, or as many as the machine's threads allow; the stored options record it.
+        if (!body.contains("concurrency")) {
+            r.opts.concurrency = std::clamp(s.config.max_threads_per_run / r.opts.threads_per_run, 1, r.opts.concurrency);
+            r.options["concurrency"] = r.opts.concurrency;
+        }
+        // A diagnosis occupies one worker but may run `concurrency` DEM runs of
+        // `threads_per_run` threads each: keep that within the machine.
+        const int threads = r.opts.concurrency * r.opts.threads_per_run;
+        if (threads > s.config.max_threads_per_run)
+            throw unprocessable("concurrency x threads_per_run = " + std::to_string(threads) + " exceeds " +
+                                std::to_string(s.config.max_threads_per_run) + " threads")
+                .at_field("/concurrency")
+                .with_limit("concurrency * threads_per_run <= " + std::to_string(s.config.max_threads_per_run));
+    } catch (const io::DiagnosisRequestError& e) {
+        throw unprocessable(e.what()).at_field(e.field);
+    }
+    return r;
+}
+
+}  // namespace
+
 void register_diagnosis_routes(Service& s) {
     s.route("POST", R"(/datasets/([^/]+)/diagnose)", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto dataset_id = path_id(req);
-        load_dataset(s, dataset_id, nullptr);  // 404 early
-        const auto body = parse_body(req);
-        if (!body.is_object()) throw unprocessable("the body must be a JSON object").at_field("");
-        const bool inline_scheme = body.contains("scheme"), by_id = body.contains("scheme_id");
-        if (inline_scheme == by_id) throw unprocessable("give exactly one of 'scheme' or 'scheme_id'").at_field("/scheme");
-        json scheme;
-        if (inline_scheme) {
-            scheme = store_scheme(s, body["scheme"], "/scheme")["scheme"];
-        } else {
-            if (!body["scheme_id"].is_number_integer()) throw unprocessable("scheme_id must be an integer").at_field("/scheme_id");
-            scheme = s.db.with([&](Database& db) {
-                auto st = db.prepare("SELECT scheme_json FROM schemes WHERE id = ?");
-                st.bind_all(body["scheme_id"].get<std::int64_t>());
-                if (!st.step()) throw not_found("scheme does not exist").at_field("/scheme_id");
-                return json::parse(st.text(0));
-            });
-        }
-        json options = body;
-        options.erase("scheme");
-        options.erase("scheme_id");
+        const auto r = read_diagnose_request(s, req, true);
+        // What the client started; null when the dataset has no curve a diagnosis can use
+        // (the diagnosis then fails with the engine's reason, as POST .../diagnosis-plan says).
+        json plan = nullptr;
         try {
-            auto opts = io::diagnose_options_from_json(body);
-            // Unless the request sets it, a diagnosis runs the default number of DEM runs at
-            // once, or as many as the machine's threads allow; the stored options record it.
-            if (!body.contains("concurrency")) {
-                opts.concurrency = std::clamp(s.config.max_threads_per_run / opts.threads_per_run, 1, opts.concurrency);
-                options["concurrency"] = opts.concurrency;
-            }
-            // A diagnosis occupies one worker but may run `concurrency` DEM runs of
-            // `threads_per_run` threads each: keep that within the machine.
-            const int threads = opts.concurrency * opts.threads_per_run;
-            if (threads > s.config.max_threads_per_run)
-                throw unprocessable("concurrency x threads_per_run = " + std::to_string(threads) + " exceeds " +
-                                    std::to_string(s.config.max_threads_per_run) + " threads")
-                    .at_field("/concurrency")
-                    .with_limit("concurrency * threads_per_run <= " + std::to_string(s.config.max_threads_per_run));
-        } catch (const io::DiagnosisRequestError& e) {
-            throw unprocessable(e.what()).at_field(e.field);
+            plan = diagnosis_cost_to_json(plan_diagnosis_cost(r.lab, r.parsed, r.opts), r.opts);
+        } catch (const std::invalid_argument&) {
+            // plan stays null
         }
-        const json request{{"scheme", scheme}, {"options", options}};
-        const auto out = s.diagnoses.submit(dataset_id, request);
+        auto out = s.diagnoses.submit(r.dataset_id, {{"scheme", r.scheme}, {"options", r.options}});
+        out["plan"] = std::move(plan);
         res.set_header("Location", "/diagnoses/" + std::to_string(out["id"].get<std::int64_t>()));
         send_json(res, out, 202);
+    });
+    s.route("POST", R"(/datasets/([^/]+)/diagnosis-plan)", [&s](const httplib::Request& req, httplib::Response& res) {
+        const auto r = read_diagnose_request(s, req, false);
+        try {
+            send_json(res, diagnosis_cost_to_json(plan_diagnosis_cost(r.lab, r.parsed, r.opts), r.opts));
+        } catch (const std::invalid_argument& e) {
+            throw unprocessable(e.what());
+        }
     });
     s.route("GET", "/diagnoses", [&s](const httplib::Request& req, httplib::Response& res) {
         send_json(res, s.diagnoses.list(page_request(req, true)));

@@ -549,10 +549,21 @@ try {
   check(drMsg.includes('relative_density_percent'), `D_r 150 %: the server's 422 names the field beside it (${drMsg})`);
   check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'an out-of-range D_r queued no diagnosis');
   await page.fill('#diagnose-relative-density-percent', '');
-  await page.waitForFunction(() => /DEM runs/.test(document.querySelector('#diagnose-cost')?.textContent || '') &&
-    /min|h/.test(document.querySelector('#diagnose-cost')?.textContent || ''), null, { timeout: 10000 }).catch(() => {});
+  // The cost before start is the service's plan of the request the page would send
+  // (POST /datasets/{id}/diagnosis-plan): the same runs as asked here with that body, shown
+  // once the page has re-planned after the last edit.
+  const formValue = sel => page.$eval(sel, i => Number(i.value));
+  const planBody = { scheme_id: await formValue('#diagnose-run'), budget_runs: await formValue('#diagnose-budget-runs'),
+    seed: await formValue('#diagnose-seed'), max_particles: await formValue('#diagnose-max-particles') };
+  const planned = await (await post(`/datasets/${await formValue('#diagnose-dataset')}/diagnosis-plan`, planBody)).json();
+  await page.waitForFunction(n => Number(document.querySelector('#diagnose-cost')?.dataset.runsHigh || 0) === n &&
+    /min|h/.test(document.querySelector('#diagnose-cost')?.textContent || ''), planned.model_runs_at_most, { timeout: 10000 }).catch(() => {});
   const cost = await page.textContent('#diagnose-cost');
-  check(/\d+ to \d+ DEM runs/.test(cost) && /min|h/.test(cost), `the diagnosis shows its cost before start (${cost.trim()})`);
+  const shownRuns = await page.$eval('#diagnose-cost', e => [Number(e.dataset.runsLow), Number(e.dataset.runsHigh)]);
+  check(planBody.budget_runs === 24 && shownRuns[0] === planned.model_runs_low && shownRuns[1] === planned.model_runs_at_most &&
+    cost.includes(`${planned.model_runs_low} to ${planned.model_runs_at_most} model runs`) && /min|h/.test(cost),
+    `the diagnosis shows the service's plan before start: ${planned.model_runs_at_most} model runs at most (${cost.trim()})`);
+  check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'the cost before start queued no diagnosis');
   const unnamedDiag = await unnamedControls(page);
   check(unnamedDiag.length === 0, `every control of the diagnosis page has an accessible name (${unnamedDiag.join(', ')})`);
   await bothWidths(page, '06_diagnosis_panel');

@@ -1,0 +1,74 @@
+#include "server/diagnoses/diagnosis_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine/diagnose/dem_forward_model.hpp"
+#include "engine/protocol/run_estimate.hpp"
+#include "server/io/diagnosis_json.hpp"
+
+namespace triax::service {
+
+using nlohmann::json;
+
+namespace {
+
+json minutes_json(const MinutesRange& m) { return {{"low", m.low}, {"typical", m.typical}, {"high", m.high}}; }
+
+}  // namespace
+
+DiagnosisCost plan_diagnosis_cost(const diagnose::LabDataset& lab, const protocol::TestScheme& scheme,
+                                  const diagnose::DiagnoseOptions& options) {
+    const diagnose::DemForwardModel model(scheme, lab, options.threads_per_run, options.max_particles, nullptr,
+                                          options.packings_per_run, options.relative_density);
+    DiagnosisCost cost;
+    cost.plan = diagnose::plan_diagnosis(lab, model, options);
+    diagnose::ModelPoint nominal;
+    for (const auto& p : model.base_parameters()) nominal.base.push_back(p.nominal);
+    const int k = static_cast<int>(nominal.base.size());
+    cost.model_runs_low =
+        options.budget_runs + std::max(0, options.noise_seeds - 1) + (options.finite_difference_uncertainty ? k : 0);
+    MinutesRange per_packing;
+    for (auto run : model.engine_runs(nominal)) {
+        // A shear-only run does not run the scheme's creep stages: the estimate must not
+        // count them.
+        if (run.last_phase != protocol::Phase::Creep) {
+            run.scheme.loading.stress_levels.clear();
+            run.scheme.loading.stage_durations_s.clear();
+        }
+        const protocol::RunEstimate e = protocol::estimate_run(run.scheme);
+        cost.grains = e.size.grains;
+        cost.conditions.push_back({run.scheme.loading.confining_pressure_pa,
+                                   static_cast<int>(run.scheme.loading.stress_levels.size()),
+                                   run.scheme.loading.max_axial_strain, {e.minutes_low, e.minutes_typical, e.minutes_high}});
+        per_packing.low += e.minutes_low;
+        per_packing.typical += e.minutes_typical;
+        per_packing.high += e.minutes_high;
+    }
+    const double packings = model.packings();
+    cost.minutes_per_model_run = {packings * per_packing.low, packings * per_packing.typical, packings * per_packing.high};
+    const auto rounds = [&](int runs) { return std::ceil(static_cast<double>(runs) / std::max(1, options.concurrency)); };
+    cost.minutes_low = rounds(cost.model_runs_low) * cost.minutes_per_model_run.low;
+    cost.minutes_high = rounds(cost.plan.model_runs) * cost.minutes_per_model_run.high;
+    return cost;
+}
+
+json diagnosis_cost_to_json(const DiagnosisCost& cost, const diagnose::DiagnoseOptions& options) {
+    json conditions = json::array();
+    for (const auto& c : cost.conditions)
+        conditions.push_back({{"confining_kPa", c.confining_pa / 1e3},
+                              {"creep_stages", c.creep_stages},
+                              {"max_axial_strain_pct", 100.0 * c.max_axial_strain},
+                              {"minutes_per_engine_run", minutes_json(c.minutes)}});
+    return {{"model_runs_at_most", cost.plan.model_runs},
+            {"model_runs_low", cost.model_runs_low},
+            {"engine_runs_per_model_run", cost.plan.engine_runs_per_model_run},
+            {"grains", cost.grains},
+            {"lab_conditions", conditions},
+            {"minutes_per_model_run", minutes_json(cost.minutes_per_model_run)},
+            {"minutes_estimate", {{"low", cost.minutes_low}, {"high", cost.minutes_high}}},
+            {"options", io::diagnose_options_to_json(options)}};
+}
+
+}  // namespace triax::service
