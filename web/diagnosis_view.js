@@ -2,7 +2,8 @@
 // compliance, ...) best explains the misfit between a scheme and a dataset, and show the
 // report: chosen effect, fitted parameters in the form's words and lab units, error before
 // and after as a chart by curve and phase, delta-BIC, verdict; "run with these parameters"
-// and "re-run". Before start: the cost (model and DEM runs, minutes), from the service's
+// (the calibrated model's scheme at the σ3 picked, report.model_schemes) and "re-run".
+// Before start: the cost (model and DEM runs, minutes), from the service's
 // plan of the request start() would send (POST /datasets/{id}/diagnosis-plan). While
 // it runs: the stream /diagnoses/{id}/events (progress, candidate, done, error) with an ETA
 // from the progress rate, and polling of GET /diagnoses/{id} for the final report.
@@ -22,8 +23,9 @@ function table(id, cols, rows, headers = cols) {
 const ACTIVE = new Set(['queued', 'running']);
 
 // The diagnosis's parameters (engine/diagnose: base_parameters, effect_parameters) in the
-// form's words and lab units, and how each one changes the scheme for "run with these
-// parameters" (as DemForwardModel::scheme_for and the artefacts apply them).
+// form's words and lab units, and how each one changes the scheme diagnosed for "run with
+// these parameters" on a report stored without model_schemes (applyParameters: the fitted
+// values only, not the calibrated model's boundary, packing and grain cap).
 export const PARAMETERS = {
   contact_normal_modulus: { label: 'normal modulus', unit: 'MPa', factor: 1e-6, field: '/micro/normal_modulus_MPa',
     apply: (s, v) => { const r = s.micro.shear_modulus_MPa / s.micro.normal_modulus_MPa; s.micro.normal_modulus_MPa = v / 1e6; s.micro.shear_modulus_MPa = r * v / 1e6; } },
@@ -36,15 +38,20 @@ export const PARAMETERS = {
     apply: (s, v) => { s.micro.rolling_friction = v; s.effects.rolling_resistance = true; s.effects.rolling_friction = v; } },
   grain_crushability: { label: 'crushing strength (from crushability 0.6 MPa / x)', unit: 'MPa', value: v => (v > 0 ? 0.6 / v : 0), field: '/micro/crushing_strength_MPa',
     apply: (s, v) => { s.micro.crushing_strength_MPa = v > 0 ? 0.6 / v : 0; } },
-  extra_bond_damage_rate: { label: 'breakage damage scale (1 + x)', unit: '–', value: v => 1 + v, field: '/effects/breakage_damage_scale',
-    apply: (s, v) => { if (v > 0) { s.effects.grain_breakage = true; s.effects.breakage_damage_scale = 1 + v; } } },
+  extra_bond_damage_rate: { label: 'bond corrosion scale (1 + x)', unit: '–', value: v => 1 + v, field: '/effects/bond_corrosion_scale',
+    apply: (s, v) => { if (v > 0) { s.effects.accelerated_bond_corrosion = true; s.effects.bond_corrosion_scale = 1 + v; } } },
   slip_hardening_length: { label: 'creep slip-hardening length', unit: 'µm', factor: 1e6, field: '/creep/slip_hardening_length_um',
     apply: (s, v) => { s.effects.contact_creep_viscosity = v > 0; if (v > 0) s.creep.slip_hardening_length_um = v * 1e6; } },
   seating_strain: { label: 'seating displacement (strain × height)', unit: 'mm', scheme: (s, v) => v * s.specimen.height_mm, field: '/effects/seating_displacement_mm',
     apply: (s, v) => { s.effects.seating_error = true; s.effects.seating_displacement_mm = v * s.specimen.height_mm; } },
-  membrane_stiffness: { label: 'membrane stiffness', unit: 'kPa', factor: 1e-3, field: '/effects/membrane_modulus_kPa',
-    apply: (s, v) => { s.effects.membrane_compliance = true; s.effects.membrane_modulus_kPa = v / 1e3; } },
+  // K_m = 4 E_m t_m / D [Pa] as the membrane modulus E_m that gives it with the scheme's t_m and D.
+  membrane_stiffness: { label: 'membrane modulus (from K_m = 4 E_m t_m / D)', unit: 'kPa', scheme: (s, v) => membraneModulusKPa(s, v), field: '/effects/membrane_modulus_kPa',
+    apply: (s, v) => { s.effects.membrane_compliance = true; s.effects.membrane_modulus_kPa = membraneModulusKPa(s, v); } },
 };
+
+function membraneModulusKPa(s, km) {
+  return km * s.specimen.diameter_mm / (4 * (s.effects?.membrane_thickness_mm || 0.5)) / 1e3;
+}
 
 function labValue(p, scheme) {
   const d = PARAMETERS[p.name];
@@ -54,6 +61,8 @@ function labValue(p, scheme) {
   return { label: d.label, unit: d.unit, value: p.value * d.factor, std: p.std != null ? p.std * d.factor : null, field: d.field };
 }
 
+// The scheme diagnosed with the fitted values: the fallback of "run with these parameters"
+// for a report stored without model_schemes.
 export function applyParameters(scheme, parameters) {
   const s = structuredClone(scheme);
   s.micro ||= {}; s.creep ||= {}; s.effects ||= {};
@@ -65,6 +74,27 @@ export function applyParameters(scheme, parameters) {
 // (diagnose_options_from_json in server/io/diagnosis_json.cpp; GET /openapi.json does not
 // carry them). The browser test sends values just outside them and expects the 422.
 export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed: [0, 2 ** 53], relative_density_percent: [0, 100] };
+
+// One line on what a model scheme (report.model_schemes[i].scheme, lab units) runs.
+export function modelSchemeText(s) {
+  const fx = s.effects || {}, micro = s.micro || {}, loading = s.loading || {};
+  const stages = loading.stress_levels?.length || 0;
+  const effects = [fx.rolling_resistance && `rolling friction ${num(micro.rolling_friction)}`,
+    micro.crushing_strength_MPa > 0 && `crushable grains (${num(micro.crushing_strength_MPa)} MPa)`,
+    fx.accelerated_bond_corrosion && `bond corrosion ×${num(fx.bond_corrosion_scale)}`,
+    fx.contact_creep_viscosity && `contact creep (slip-hardening ${num(s.creep?.slip_hardening_length_um)} µm)`,
+    fx.seating_error && `seating ${num(fx.seating_displacement_mm)} mm`,
+    fx.membrane_compliance && `membrane compliance (E_m ${num(fx.membrane_modulus_kPa)} kPa)`].filter(Boolean);
+  return [
+    s.specimen?.lateral_boundary === 'grain_pressure' ? 'grain-pressure boundary (no membrane)' : 'bonded membrane',
+    s.max_particles > 0 ? `${s.max_particles} grains cap` : 'grains from the gradation',
+    `packing grown at porosity ${num(s.specimen?.target_porosity)}`,
+    `σ3 ${num(loading.confining_pressure_kPa)} kPa`,
+    `shear to ${num(loading.max_axial_strain_pct)} %`,
+    stages ? `${stages} creep stage${stages === 1 ? '' : 's'}` : 'no creep stage',
+    `effects: ${effects.length ? effects.join(', ') : 'none'}`,
+    `seed ${s.seed}`].join(', ');
+}
 
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
 const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);
@@ -309,28 +339,58 @@ export class DiagnosisView {
       el('span', { class: 'bar-value' }, `${num(get(before, k)?.nrmse)} → ${num(get(after, k)?.nrmse)}`))));
   }
 
-  async runWith(parameters, label) {
+  // The scheme "run with these parameters" posts: the calibrated model's at the σ3 picked
+  // (report.model_schemes, built by the service with the engine's DemForwardModel), or, for
+  // a report stored without it, the scheme diagnosed with the fitted values.
+  fittedScheme(r) {
+    const schemes = r.model_schemes || [];
+    if (schemes.length) return structuredClone(schemes[Number(this.conditionSelect?.value || 0)]?.scheme || schemes[0].scheme);
+    if (!this.scheme) throw new Error('the diagnosis carries no scheme');
+    const scheme = applyParameters(this.scheme, [...(r.base_parameters || []), ...(r.parameters || [])]);
+    scheme.name = `${scheme.name || 'scheme'} · fitted`.slice(0, 120);
+    return scheme;
+  }
+
+  async runFitted(r) {
     this.error.textContent = '';
     try {
-      if (!this.scheme) throw new Error('the diagnosis carries no scheme');
-      const scheme = applyParameters(this.scheme, parameters);
-      scheme.name = `${scheme.name || 'scheme'} · ${label}`.slice(0, 120);
-      const res = await postJSON('/runs', { scheme });
+      const res = await postJSON('/runs', { scheme: this.fittedScheme(r) });
       location.hash = `#/runs/${res.id}`;
     } catch (e) { this.error.textContent = `run with these parameters: ${e.message}`; }
+  }
+
+  // What "run with these parameters" runs: a σ3 picker over the lab conditions (null
+  // without model_schemes) and one line describing the scheme picked.
+  fittedRunInfo(r) {
+    const schemes = r.model_schemes || [];
+    const line = el('p', { class: 'hint', id: 'diagnosis-model-scheme' });
+    if (!schemes.length) {
+      this.conditionSelect = null;
+      line.textContent = 'runs the scheme diagnosed with the fitted values (this report has no calibrated model scheme): its boundary, packing and grain cap are the scheme\'s, not the calibrated model\'s, so its curves may differ from the report\'s';
+      return { picker: null, line };
+    }
+    this.conditionSelect = el('select', { id: 'diagnosis-run-condition', 'aria-label': 'confining pressure of the run' },
+      schemes.map((c, i) => el('option', { value: i }, `σ3 ${num(c.confining_kPa)} kPa`)));
+    const show = () => { line.textContent = `runs the calibrated model: ${modelSchemeText(this.fittedScheme(r))}`; };
+    this.conditionSelect.addEventListener('change', show);
+    show();
+    return { picker: el('label', {}, 'at ', this.conditionSelect), line };
   }
 
   renderReport(d) {
     this.stop();
     const r = d.report;
+    const fitted = this.fittedRunInfo(r);
     const parts = [
       el('p', { class: 'verdict', id: 'diagnosis-verdict' }, el('strong', {}, 'Chosen effect: '), String(r.chosen_effect),
         r.effects?.length > 1 ? ` (effects: ${r.effects.join(', ')})` : '', el('br'), r.verdict || ''),
       el('p', { class: 'hint' }, `pooled NRMSE: calibrated base model ${num(r.nrmse_before)} → with the chosen effects ${num(r.nrmse_after)} · ${num(r.n_readings)} readings, ` +
         `${num(r.n_effective)} effectively independent · ${num(r.runs_used)} DEM runs`),
       el('div', { class: 'row' },
-        el('button', { type: 'button', id: 'diagnosis-run-fitted', onclick: () => this.runWith([...(r.base_parameters || []), ...(r.parameters || [])], 'fitted') }, 'Run with these parameters'),
+        el('button', { type: 'button', id: 'diagnosis-run-fitted', onclick: () => this.runFitted(r) }, 'Run with these parameters'),
+        fitted.picker,
         el('button', { type: 'button', id: 'diagnosis-rerun', onclick: () => this.rerun(d) }, 'Re-run this diagnosis')),
+      fitted.line,
     ];
     if (r.error_before?.length || r.error_after?.length) parts.push(this.residualChart(r.error_before, r.error_after));
     // The effects' parameters and the recalibrated base model's: two different sets.
@@ -349,7 +409,7 @@ export class DiagnosisView {
       if (r.delta_bic.runners_up?.length) parts.push(table('diagnosis-runners-up', ['effect', 'delta_bic'], r.delta_bic.runners_up, ['runner-up effect', 'ΔBIC']));
     }
     if (r.steps?.length) parts.push(el('h4', {}, 'Selection steps'), table('diagnosis-steps', ['step', 'added', 'nrmse_before', 'nrmse_after', 'delta_bic', 'n_effective'], r.steps, ['step', 'added', 'NRMSE before', 'NRMSE after', 'ΔBIC', 'n eff']));
-    parts.push(el('p', { class: 'hint' }, 'The report carries no calibrated model curves; "Run with these parameters" runs the fitted model, whose curves the Lab comparison page draws over the lab readings.'));
+    parts.push(el('p', { class: 'hint' }, `The report carries no calibrated model curves; "Run with these parameters" runs ${fitted.picker ? 'the calibrated model at the σ3 picked' : 'the fitted values on the scheme diagnosed'}, whose curves the Lab comparison page draws over the lab readings.`));
     if (!this.candidateRows?.length && r.candidates?.length) this.renderCandidates(r.candidates);
     this.report.replaceChildren(...parts);
     this.refreshLists();

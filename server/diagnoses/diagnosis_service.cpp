@@ -1,11 +1,13 @@
 #include "server/diagnoses/diagnosis_service.hpp"
 
 #include "engine/diagnose/diagnosis.hpp"
+#include "server/diagnoses/model_schemes.hpp"
 #include "server/http/problem.hpp"
 #include "server/io/diagnosis_json.hpp"
 #include "server/io/scheme_json.hpp"
 
 #include <chrono>
+#include <iostream>
 
 namespace triax::service {
 
@@ -65,6 +67,18 @@ private:
     std::shared_ptr<std::atomic<bool>> cancel_;
     std::chrono::steady_clock::time_point last_{};
 };
+
+// The final model's schemes (model_schemes.hpp) into the report. A report they cannot be
+// built for is stored without them: the diagnosis itself succeeded, and the page falls
+// back to the scheme diagnosed with the fitted values.
+void add_model_schemes(json& report, const protocol::TestScheme& scheme, const diagnose::LabDataset& lab,
+                       const diagnose::DiagnoseOptions& options) {
+    try {
+        report["model_schemes"] = model_schemes_json(scheme, lab, options, io::diagnosis_report_from_json(report));
+    } catch (const std::exception& e) {
+        std::cerr << "triaxd: the diagnosis's model schemes could not be built: " << e.what() << "\n";
+    }
+}
 
 }  // namespace
 
@@ -158,7 +172,8 @@ json DiagnosisService::status(std::int64_t id) {
         auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
         st.bind_all(id);
         if (!st.step()) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
-        // The scheme diagnosed (the page's "run with these parameters" starts from it).
+        // The scheme diagnosed (the user's; the report's model_schemes are the calibrated
+        // model's).
         auto d = diagnosis_json(st);
         d["scheme"] = json::parse(st.text(8)).value("scheme", json(nullptr));
         return d;
@@ -215,8 +230,9 @@ void DiagnosisService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool
         const auto scheme = io::scheme_from_json(request["scheme"]);
         const auto options = io::diagnose_options_from_json(request["options"]);
         StreamingDiagnoseObserver observer(db_, events_, id, cancel);
-        const json doc = remote_ ? remote_(id, request, lab, observer)
-                                 : io::diagnosis_report_to_json(diagnose::run_diagnosis(lab, scheme, options, observer));
+        json doc = remote_ ? remote_(id, request, lab, observer)
+                           : io::diagnosis_report_to_json(diagnose::run_diagnosis(lab, scheme, options, observer));
+        add_model_schemes(doc, scheme, lab, options);
         finish(id, "done", "", &doc);
     } catch (const diagnose::DiagnosisCancelled&) {
         finish(id, shutting_down_ ? "interrupted" : "cancelled",

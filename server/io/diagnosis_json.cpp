@@ -256,8 +256,9 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
         r.noise.model_nrmse = n.value("model_nrmse", 0.0);
         r.noise.lab_nrmse = n.value("lab_nrmse", 0.0);
         r.noise.tolerance_nrmse = n.value("tolerance_nrmse", 0.0);
-        for (const auto& [label, v] : n.value("model_nrmse_per_curve", json::object()).items())
-            r.noise.model_nrmse_per_curve.emplace_back(label, v.get<double>());
+        // A named copy: items() over value()'s temporary would read it after its end.
+        const json per_curve = n.value("model_nrmse_per_curve", json::object());
+        for (const auto& [label, v] : per_curve.items()) r.noise.model_nrmse_per_curve.emplace_back(label, v.get<double>());
     }
     if (j.contains("worst_remaining") && j["worst_remaining"].is_object())
         r.worst_remaining = errors_from_json(json::array({j["worst_remaining"]})).front();

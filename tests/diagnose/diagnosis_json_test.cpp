@@ -1,6 +1,8 @@
 // Report <-> JSON: lab units at the edge, exact round trip, request validation.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "server/io/diagnosis_json.hpp"
 #include "server/io/diagnosis_verdict.hpp"
 
@@ -33,6 +35,7 @@ DiagnosisReport sample_report() {
     r.nrmse_before = 1.5;
     r.nrmse_after = 0.02;
     r.runs_used = 77;
+    r.noise.model_nrmse_per_curve = {{"stress_strain@100kPa", 0.03}, {"creep-2@100kPa", 0.05}};
     r.outcome = Outcome::EffectFound;
     return r;
 }
@@ -66,6 +69,9 @@ TEST_CASE("report JSON reads back to the same report", "[diagnose][json]") {
     CHECK(r1.steps[1].added == "bond_degradation");
     CHECK(r1.candidates[0].parameters[0].name == "breakage_index");
     CHECK(r1.runs_used == 77);
+    // Per-curve noise by label (a JSON object: the order is the labels').
+    auto by_label = [](auto v) { std::sort(v.begin(), v.end()); return v; };
+    CHECK(by_label(r1.noise.model_nrmse_per_curve) == by_label(r0.noise.model_nrmse_per_curve));
     CHECK(triax::io::diagnosis_verdict(r1) == triax::io::diagnosis_verdict(r0));
     CHECK(r1.outcome == r0.outcome);
 }

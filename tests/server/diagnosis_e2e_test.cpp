@@ -2,8 +2,9 @@
 // coarse membrane, 1 % axial strain, no creep), the smallest budget the request allows and
 // the parameters' uncertainty from the regression over the runs made
 // (finite_difference_uncertainty false: no extra Jacobian runs). POST
-// /datasets/{id}/diagnose, follow its stream to the end, GET the stored report, restart on
-// the same data directory and read the same report back. It costs six tiny DEM runs, about
+// /datasets/{id}/diagnose, follow its stream to the end, GET the stored report with the
+// calibrated model's scheme (POSTed to /runs), restart on the same data directory and read
+// the same report back. It costs six tiny DEM runs, about
 // 7 s alone. The scheme is chosen so that every run's consolidation meets its criterion:
 // with radius ratio 1.5, or with the default contact modulus (230 MPa, which the calibration
 // varies up to x5), this specimen's consolidation ends at the protocol's 400,000-step cap
@@ -34,7 +35,8 @@ TEST_CASE("a real diagnosis runs through the service and its report survives a r
                                  .body["id"];
         const auto sub = srv.post("/datasets/" + std::to_string(ds) + "/diagnose",
                                   json{{"scheme", scheme}, {"budget_runs", 4}, {"refine_runs", 1}, {"max_candidates", 1},
-                                       {"max_effects", 1}, {"seed", 1}, {"finite_difference_uncertainty", false}});
+                                       {"max_effects", 1}, {"seed", 1}, {"max_particles", 40},
+                                       {"finite_difference_uncertainty", false}});
         INFO(sub.text);
         REQUIRE(sub.status == 202);
         id = sub.body["id"];
@@ -56,6 +58,19 @@ TEST_CASE("a real diagnosis runs through the service and its report survives a r
         CHECK(report["verdict"].is_string());
         CHECK(got.body["options"]["finite_difference_uncertainty"] == false);
         CHECK(report["runs_used"].get<int>() >= 4);  // at least the calibration budget
+        // The calibrated model's scheme (one lab condition): the diagnosis's DEM model, not
+        // the scheme diagnosed, and a run accepts it as it is.
+        REQUIRE(report["model_schemes"].size() == 1);
+        const json& model = report["model_schemes"][0]["scheme"];
+        CHECK(model["specimen"]["lateral_boundary"] == "grain_pressure");
+        CHECK(model["max_particles"] == 40);
+        const auto friction = std::find_if(report["parameters"].begin(), report["parameters"].end(),
+                                           [](const json& p) { return p["name"] == "friction"; });
+        REQUIRE(friction != report["parameters"].end());
+        CHECK(model["micro"]["friction"] == (*friction)["value"]);
+        const auto run = srv.post("/runs", json{{"scheme", model}});
+        INFO(run.text);
+        CHECK((run.status == 201 || run.status == 202));
         report_text = report.dump();
     }
     {

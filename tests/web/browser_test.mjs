@@ -10,7 +10,9 @@
 // 3. lab readings uploaded and compared: the whole lab curve and the continuous model curve
 //    drawn, readings outside the model range counted, only finished runs offered;
 // 4. the diagnosis panel: cost before start, report with the residual chart, parameters in
-//    the form's words, "run with these parameters" and "re-run";
+//    the form's words, "run with these parameters" (the calibrated model's scheme at the σ3
+//    picked; the scheme diagnosed with the fitted values for a report without it) and
+//    "re-run";
 // 5. the 3D specimen panel; phone layout at 390 px; accessible names on every control;
 // 6. screenshots of each page at 1440x900 and 390x844 (TRIAX_WEB_SCREENS, default
 //    tests/web/screenshots/).
@@ -622,6 +624,9 @@ try {
   const untried = await page.$$eval('#diagnosis-candidates-table tr', rs => rs.slice(1).map(r => [...r.children].map(c => c.textContent)));
   check(untried[1]?.[2] === 'not fitted' && untried[1]?.[4] === '—' && untried[1]?.[5] === '—', `an untried candidate shows no NRMSE or BIC (${untried[1]?.join(' | ')})`);
   await bothWidths(page, '07_diagnosis_report');
+  const fallbackLine = await page.textContent('#diagnosis-model-scheme');
+  check(/scheme diagnosed with the fitted values/.test(fallbackLine) && !(await page.$('#diagnosis-run-condition')),
+    `a report without model_schemes says the button runs the scheme diagnosed (${fallbackLine})`);
   await page.click('#diagnosis-rerun');
   await page.waitForFunction(() => true);
   await page.waitForTimeout(300);
@@ -640,7 +645,38 @@ try {
   check(runOverlay === modelRows && creepOverlay === 2, `a finished run is overlaid on another run's plots (${runOverlay} q points, ${creepOverlay} creep stages)`);
   const fittedScheme = fittedRun ? (await (await fetch(`${base}/schemes/${(await (await fetch(`${base}/runs/${fittedRun}`)).json()).scheme_id}`)).json()).scheme : {};
   check(Math.abs((fittedScheme.micro?.normal_modulus_MPa ?? 0) - 120) < 1e-6 && fittedScheme.micro?.friction === 0.45 && fittedScheme.effects?.rolling_resistance === true,
-    `"run with these parameters" submits the scheme with the fitted values (run #${fittedRun}: ${fittedScheme.micro?.normal_modulus_MPa} MPa, μ ${fittedScheme.micro?.friction}, rolling ${fittedScheme.micro?.rolling_friction})`);
+    `a report without model_schemes: "run with these parameters" submits the scheme diagnosed with the fitted values (run #${fittedRun}: ${fittedScheme.micro?.normal_modulus_MPa} MPa, μ ${fittedScheme.micro?.friction}, rolling ${fittedScheme.micro?.rolling_friction})`);
+  // The same report with the calibrated model's schemes (report.model_schemes, one per lab
+  // condition, as the service stores them): the line names the model, the σ3 picked is the
+  // one run, and the run's scheme is the stored one as it is.
+  const modelScheme = async (sigma3, stages) => {
+    const s = await tinyScheme(1);
+    Object.assign(s.specimen, { lateral_boundary: 'grain_pressure', target_porosity: 0.45 });
+    Object.assign(s.micro, { friction: 0.37, rolling_friction: 0.12 });
+    Object.assign(s.effects, { rolling_resistance: true, rolling_friction: 0.12 });
+    Object.assign(s.loading, { confining_pressure_kPa: sigma3, stress_levels: stages.map(() => 0.5), stage_durations_min: stages });
+    s.name = `tiny (calibrated, ${sigma3} kPa)`;
+    return s;
+  };
+  report.model_schemes = [{ confining_kPa: 100, scheme: await modelScheme(100, []) }, { confining_kPa: 200, scheme: await modelScheme(200, [1]) }];
+  await page.goto(`${base}/#/runs`);
+  await page.goto(`${base}/#/diagnose`);
+  await page.click(`#diagnoses-table a:has-text("#${fixtureId}")`);
+  await page.waitForSelector('#diagnosis-run-condition', { timeout: 10000 });
+  await page.selectOption('#diagnosis-run-condition', '1');
+  await bothWidths(page, '07b_diagnosis_model_scheme');
+  const modelLine = await page.textContent('#diagnosis-model-scheme');
+  check(/calibrated model/.test(modelLine) && /grain-pressure boundary/.test(modelLine) && /40 grains cap/.test(modelLine) &&
+    /σ3 200 kPa/.test(modelLine) && /1 creep stage/.test(modelLine) && /rolling friction 0\.12/.test(modelLine),
+    `the report says which scheme "run with these parameters" runs (${modelLine})`);
+  await page.click('#diagnosis-run-fitted');
+  await page.waitForURL(/#\/runs\/\d+$/, { timeout: 10000 }).catch(() => {});
+  const modelRun = Number((page.url().match(/#\/runs\/(\d+)$/) || [])[1] || 0);
+  if (modelRun) await post(`/runs/${modelRun}/cancel`, {});
+  const ranScheme = modelRun ? (await (await fetch(`${base}/schemes/${(await (await fetch(`${base}/runs/${modelRun}`)).json()).scheme_id}`)).json()).scheme : {};
+  check(modelRun && ranScheme.specimen?.lateral_boundary === 'grain_pressure' && ranScheme.loading?.confining_pressure_kPa === 200 &&
+    ranScheme.micro?.friction === 0.37 && ranScheme.loading?.stress_levels?.length === 1 && ranScheme.name === 'tiny (calibrated, 200 kPa)',
+    `"run with these parameters" posts the calibrated model's scheme at the σ3 picked (run #${modelRun}: ${ranScheme.name}, ${ranScheme.specimen?.lateral_boundary}, σ3 ${ranScheme.loading?.confining_pressure_kPa} kPa)`);
   await page.unrouteAll();
 
   // ---- 6. paged lists: the datasets table shows one page (50) and a "more" control ------
