@@ -64,7 +64,7 @@ TEST_CASE("creep data with hidden extra bond damage: named as bond degradation, 
     // No grain breakage in shear (breakage index 0): the damage shows in the creep holds only.
     const LabDataset lab = make_synthetic_lab(model, {kTruth, {{Effect::BondDegradation, {0.0, 3.0}}}}, {});
     DiagnoseObserver quiet;
-    const auto r = run_diagnosis(lab, model, DiagnoseOptions{}, quiet);
+    const auto r = run_diagnosis(lab, model, analytic_method_options(), quiet);
     INFO(describe(r));
     CHECK(r.chosen_effect == "bond_degradation");
     auto step = std::find_if(r.steps.begin(), r.steps.end(), [](auto& s) { return s.added == "bond_degradation"; });

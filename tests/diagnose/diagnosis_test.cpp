@@ -29,7 +29,7 @@ struct Recorder : DiagnoseObserver {
 const std::vector<double> kTruth{30e6, 36.0, 10.0, 8e-4};
 
 DiagnosisReport diagnose(const std::vector<std::pair<Effect, std::vector<double>>>& hidden, SyntheticLabOptions lab_opt = {},
-                         DiagnoseOptions opt = {}) {
+                         DiagnoseOptions opt = analytic_method_options()) {
     AnalyticTriaxialModel model;
     const LabDataset lab = make_synthetic_lab(model, {kTruth, hidden}, lab_opt);
     Recorder rec;
@@ -158,7 +158,7 @@ TEST_CASE("a misfit outside the catalog is reported as unexplained with where it
     AnalyticTriaxialModel model;
     const LabDataset lab = lab_with_outside_misfit(0.15, 1e-3);
     Recorder rec;
-    const auto r = run_diagnosis(lab, model, DiagnoseOptions{}, rec);
+    const auto r = run_diagnosis(lab, model, analytic_method_options(), rec);
     describe(r);
     CHECK(r.outcome == Outcome::Unexplained);
     CHECK(r.chosen_effect == "unexplained");
@@ -171,7 +171,7 @@ TEST_CASE("a small misfit of another model family is no effect, not unexplained"
     AnalyticTriaxialModel model;
     const LabDataset lab = lab_with_outside_misfit(0.03, 1e-4);
     Recorder rec;
-    const auto r = run_diagnosis(lab, model, DiagnoseOptions{}, rec);
+    const auto r = run_diagnosis(lab, model, analytic_method_options(), rec);
     describe(r);
     CHECK(r.outcome == Outcome::NoEffectNeeded);
     CHECK(r.chosen_effect == "none");
@@ -193,7 +193,7 @@ struct WithoutBondDegradation final : ForwardModel {
 TEST_CASE("an effect the model cannot show on the data is not offered, and the verdict says so", "[diagnose][loop]") {
     WithoutBondDegradation model;
     const LabDataset lab = make_synthetic_lab(model.inner, {kTruth, {}}, {});
-    DiagnoseOptions opt;
+    DiagnoseOptions opt = analytic_method_options();
     opt.budget_runs = 12;
     opt.refine_runs = 4;
     Recorder rec;
@@ -207,7 +207,7 @@ TEST_CASE("an effect the model cannot show on the data is not offered, and the v
 TEST_CASE("concurrent evaluations: same verdict, and reproducible for a seed", "[diagnose][loop]") {
     AnalyticTriaxialModel model;
     const LabDataset lab = make_synthetic_lab(model, {kTruth, {{Effect::RollingResistance, {0.2}}}}, {});
-    DiagnoseOptions opt;
+    DiagnoseOptions opt = analytic_method_options();
     opt.concurrency = 3;
     Recorder a, b;
     const auto r1 = run_diagnosis(lab, model, opt, a);
@@ -223,14 +223,14 @@ TEST_CASE("cancellation stops the loop with DiagnosisCancelled", "[diagnose][loo
     const LabDataset lab = make_synthetic_lab(model, {kTruth, {}}, {});
     Recorder rec;
     rec.cancel = true;
-    CHECK_THROWS_AS(run_diagnosis(lab, model, DiagnoseOptions{}, rec), DiagnosisCancelled);
+    CHECK_THROWS_AS(run_diagnosis(lab, model, analytic_method_options(), rec), DiagnosisCancelled);
 }
 
 TEST_CASE("bad options are rejected before any run", "[diagnose][loop]") {
     AnalyticTriaxialModel model;
     const LabDataset lab = make_synthetic_lab(model, {kTruth, {}}, {});
     Recorder rec;
-    DiagnoseOptions opt;
+    DiagnoseOptions opt = analytic_method_options();
     opt.budget_runs = 2;
     CHECK_THROWS_WITH(run_diagnosis(lab, model, opt, rec), Catch::Contains("budget_runs"));
     CHECK(rec.progress_calls == 0);
@@ -266,7 +266,7 @@ struct FailsOnFirstPacking final : ForwardModel {
 TEST_CASE("a run that fails is retried on another packing and reported, not scored as a misfit", "[diagnose][loop]") {
     FailsOnFirstPacking model;
     const LabDataset lab = make_synthetic_lab(model.inner, {kTruth, {}}, {});
-    DiagnoseOptions opt;
+    DiagnoseOptions opt = analytic_method_options();
     opt.budget_runs = 12;
     opt.refine_runs = 4;
     Recorder rec;
@@ -284,7 +284,7 @@ TEST_CASE("the noise floor is measured on other packings and stated", "[diagnose
     AnalyticTriaxialModel model;
     SyntheticLabOptions lo;
     const LabDataset lab = make_synthetic_lab(model, {kTruth, {}}, lo);
-    DiagnoseOptions opt;
+    DiagnoseOptions opt = analytic_method_options();
     opt.budget_runs = 8;
     opt.refine_runs = 2;
     opt.max_effects = 1;

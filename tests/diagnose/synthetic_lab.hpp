@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "engine/diagnose/diagnosis.hpp"
 #include "engine/diagnose/forward_model.hpp"
 #include "engine/diagnose/metrics.hpp"
 
@@ -22,6 +23,21 @@ struct SyntheticLabOptions {
     double shear_strain_step = 0.0025;  // readings of a shear curve: 0, step, ... up to
     int shear_readings = 61;            // shear_readings - 1 steps (lab-like: 0.25 % to 15 %)
 };
+
+// The loop's options on the analytic stand-in: a converged calibration and candidate fits
+// (budget 24, refine 10, three candidates, three effects, one run at a time). The stand-in
+// has no packing scatter, so only BIC guards against a candidate that merely out-calibrates
+// the base; the product's defaults are set for DEM run cost and rely on the packing floor
+// as well (docs/diagnosis.md section 5).
+inline DiagnoseOptions analytic_method_options() {
+    DiagnoseOptions o;
+    o.budget_runs = 24;
+    o.refine_runs = 10;
+    o.max_candidates = 3;
+    o.max_effects = 3;
+    o.concurrency = 1;
+    return o;
+}
 
 inline double interpolate_at(const std::vector<double>& x, const std::vector<double>& y, double xq) {
     if (xq <= x.front()) return y.front();
