@@ -79,6 +79,7 @@ public:
     // The mean over the model's packings: seed, seed + kPackingSeedStride, ...
     LabDataset simulate(const ModelPoint& point, std::uint64_t seed) const override;
     int packings() const { return packings_; }
+    double specimen_height_m() const override { return base_.specimen.height_m; }
 
     // The scheme a model point runs at one confining pressure (exposed for tests and for
     // storing the calibrated scheme).

@@ -45,6 +45,9 @@ public:
     virtual std::string not_offered_reason(Effect) const { return {}; }
     // Settings the calibration holds at the scheme's values.
     virtual std::vector<HeldParameter> held_fixed() const { return {}; }
+    // Height of the specimen whose deformations simulate() reports (m): a seating strain
+    // adds strain x height to them (test_artefacts.hpp).
+    virtual double specimen_height_m() const { return 0.2; }
     // Predicted curves, one per lab curve it can reproduce, identified by (kind, stage,
     // confining_pa) like the lab's. Shear curves: axial_strain, deviator_pa,
     // volumetric_strain. Creep curves: time_s, axial_strain (and axial_deformation_m).

@@ -165,7 +165,7 @@ std::vector<std::string> ModelEvaluator::failure_messages() const {
 
 std::vector<double> ModelEvaluator::with_artefacts(const Variant& v, const LabDataset& physical, const UnitPoint& u) const {
     LabDataset d = physical;
-    for (const auto& [j, e] : artefact_coordinates(v)) apply_test_artefact(d, e, {to_parameter(effect_specs_.at(e)[0], u[j])});
+    for (const auto& [j, e] : artefact_coordinates(v)) apply_test_artefact(d, e, {to_parameter(effect_specs_.at(e)[0], u[j])}, model_.specimen_height_m());
     return normalised_residual(layout_, d);
 }
 
@@ -230,7 +230,7 @@ LabDataset ModelEvaluator::curves(const Variant& v, const UnitPoint& u) {
     auto it = cache_.find(key);
     if (it == cache_.end()) return {};
     LabDataset d = it->second;
-    for (const auto& [j, e] : artefact_coordinates(v)) apply_test_artefact(d, e, {to_parameter(effect_specs_.at(e)[0], u[j])});
+    for (const auto& [j, e] : artefact_coordinates(v)) apply_test_artefact(d, e, {to_parameter(effect_specs_.at(e)[0], u[j])}, model_.specimen_height_m());
     return d;
 }
 

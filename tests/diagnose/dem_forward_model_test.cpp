@@ -45,6 +45,8 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     CHECK_THAT(model.not_offered_reason(Effect::MoistureBonding), Catch::Contains("from 0"));
     REQUIRE(model.effect_parameters(Effect::RollingResistance).size() == 1);
     REQUIRE(model.effect_parameters(Effect::ContactCreepViscosity).size() == 1);
+    // Seating strain becomes deformation on the model's own specimen height.
+    CHECK(model.specimen_height_m() == Approx(base.specimen.height_m));
     const ParameterSpec creep_spec = model.effect_parameters(Effect::ContactCreepViscosity).front();
     CHECK(creep_spec.name == "slip_hardening_length");
     CHECK(creep_spec.lower_is_off);  // 0 = no creep: the base
