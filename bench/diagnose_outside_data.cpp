@@ -9,7 +9,7 @@
 // on the creep readings (outside any catalog). Prints per case the outcome, the verdict, NRMSE before/after, unreached readings,
 // runs, and wall time.
 // Usage: diagnose_outside_data [case=all|plain|seating|outside|creep|creep_thermal] [budget=12] [refine=3]
-//        [grains=200] [concurrency=2] [noise_seeds=3] [effects=1] [candidates=2] [packings=1]
+//        [grains=200] [rmin_mm=2.5 (1.58: ~760 grains; grains caps)] [concurrency=2] [noise_seeds=3] [effects=1] [candidates=2] [packings=1]
 //        [seed=1] (the model's packing seed; the lab curves are the same for every seed)
 // (the service's defaults: budget=24 refine=10 effects=3 candidates=3). Each case also
 // prints the plan (plan_diagnosis: the most model runs the options allow).
@@ -104,7 +104,7 @@ void add_creep(LabDataset& lab, double thermal, unsigned seed) {
 
 int main(int argc, char** argv) {
     std::map<std::string, std::string> kv{{"case", "all"}, {"budget", "12"}, {"refine", "3"},
-                                          {"grains", "200"}, {"concurrency", "2"}, {"noise_seeds", "3"},
+                                          {"grains", "200"}, {"rmin_mm", "2.5"}, {"concurrency", "2"}, {"noise_seeds", "3"},
                                           {"effects", "1"}, {"candidates", "2"}, {"packings", "1"},
                                           {"seed", "1"}};
     if (!triax::bench::read_key_values(argc, argv, kv)) return 2;
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     triax::protocol::TestScheme scheme;  // the default scheme: the diagnosis takes the catalog out
     scheme.specimen.diameter_m = 0.05;
     scheme.specimen.height_m = 0.1;
-    scheme.gradation.r_min_m = 2.5e-3;
+    scheme.gradation.r_min_m = 1e-3 * std::atof(kv["rmin_mm"].c_str());  // 2.5 mm: ~200 grains
     scheme.gradation.radius_ratio = 3.0;
     struct Case {
         const char* name;
