@@ -92,6 +92,17 @@ public:
     struct EngineRun {
         protocol::TestScheme scheme;
         protocol::Phase last_phase = protocol::Phase::Shear;
+        // The scheme on its own, as this run runs it: a shear-only run's creep stages are
+        // cleared (they are not run), so a cost estimate or a stored scheme does not count
+        // them.
+        protocol::TestScheme standalone_scheme() const {
+            protocol::TestScheme s = scheme;
+            if (last_phase != protocol::Phase::Creep) {
+                s.loading.stress_levels.clear();
+                s.loading.stage_durations_s.clear();
+            }
+            return s;
+        }
     };
     std::vector<EngineRun> engine_runs(const ModelPoint& point) const;
 

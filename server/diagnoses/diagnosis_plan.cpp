@@ -30,18 +30,12 @@ DiagnosisCost plan_diagnosis_cost(const diagnose::LabDataset& lab, const protoco
     cost.model_runs_low =
         options.budget_runs + std::max(0, options.noise_seeds - 1) + (options.finite_difference_uncertainty ? k : 0);
     MinutesRange per_packing;
-    for (auto run : model.engine_runs(nominal)) {
-        // A shear-only run does not run the scheme's creep stages: the estimate must not
-        // count them.
-        if (run.last_phase != protocol::Phase::Creep) {
-            run.scheme.loading.stress_levels.clear();
-            run.scheme.loading.stage_durations_s.clear();
-        }
-        const protocol::RunEstimate e = protocol::estimate_run(run.scheme);
+    for (const auto& run : model.engine_runs(nominal)) {
+        const protocol::TestScheme s = run.standalone_scheme();
+        const protocol::RunEstimate e = protocol::estimate_run(s);
         cost.grains = e.size.grains;
-        cost.conditions.push_back({run.scheme.loading.confining_pressure_pa,
-                                   static_cast<int>(run.scheme.loading.stress_levels.size()),
-                                   run.scheme.loading.max_axial_strain, {e.minutes_low, e.minutes_typical, e.minutes_high}});
+        cost.conditions.push_back({s.loading.confining_pressure_pa, static_cast<int>(s.loading.stress_levels.size()),
+                                   s.loading.max_axial_strain, {e.minutes_low, e.minutes_typical, e.minutes_high}});
         per_packing.low += e.minutes_low;
         per_packing.typical += e.minutes_typical;
         per_packing.high += e.minutes_high;

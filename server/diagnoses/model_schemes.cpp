@@ -84,13 +84,8 @@ json model_schemes_json(const protocol::TestScheme& scheme, const LabDataset& la
     const DemForwardModel model(scheme, lab, options.threads_per_run, options.max_particles, nullptr,
                                 options.packings_per_run, options.relative_density);
     json out = json::array();
-    for (auto run : model.engine_runs(final_point(model, report))) {
-        protocol::TestScheme& s = run.scheme;
-        // A shear-only condition does not run the scheme's creep stages.
-        if (run.last_phase != protocol::Phase::Creep) {
-            s.loading.stress_levels.clear();
-            s.loading.stage_durations_s.clear();
-        }
+    for (const auto& run : model.engine_runs(final_point(model, report))) {
+        protocol::TestScheme s = run.standalone_scheme();
         apply_artefacts(s, report.parameters);
         s.seed = options.seed;
         s.name = scheme_name(scheme.name, s.loading.confining_pressure_pa);
