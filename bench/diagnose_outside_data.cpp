@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
                 std::fprintf(stderr, "  %5.1f %% %-12.*s %6.0f s\n", percent, static_cast<int>(stage.size()), stage.data(), s);
             }
         } quiet;
-        const DemForwardModel planned(scheme, lab, 1, opt.max_particles, nullptr, opt.packings_per_run);
+        const DemForwardModel planned(scheme, lab, opt);
         std::printf("%-8s plan: at most %d model runs\n", c.name, plan_diagnosis(lab, planned, opt).model_runs);
         const auto t0 = std::chrono::steady_clock::now();
         try {

@@ -32,6 +32,11 @@ private:
 
 }  // namespace
 
+DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, const DiagnoseOptions& options,
+                                 const DiagnoseObserver* cancel)
+    : DemForwardModel(base, lab, options.threads_per_run, options.max_particles, cancel, options.packings_per_run,
+                      options.relative_density) {}
+
 DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads,
                                  int max_particles, const DiagnoseObserver* cancel, int packings,
                                  std::optional<double> relative_density)
@@ -373,8 +378,7 @@ DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme&
 
 DiagnosisReport run_diagnosis(const LabDataset& lab, const protocol::TestScheme& base, const DiagnoseOptions& options,
                               DiagnoseObserver& observer, SimulationBatch& batch) {
-    const DemForwardModel model(base, lab, options.threads_per_run, options.max_particles, &observer,
-                                options.packings_per_run, options.relative_density);
+    const DemForwardModel model(base, lab, options, &observer);
     return run_diagnosis(lab, model, options, observer, batch);
 }
 

@@ -43,6 +43,7 @@
 namespace triax::diagnose {
 
 class DiagnoseObserver;
+struct DiagnoseOptions;
 
 // Grain crushability x = kCrushabilityReferencePa / crushing strength: x = 1 is a grain of
 // 0.6 MPa, x = kCrushabilityMax (0.3 MPa) the weakest offered.
@@ -70,6 +71,12 @@ public:
     DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, int threads, int max_particles,
                     const DiagnoseObserver* cancel = nullptr, int packings = 1,
                     std::optional<double> relative_density = std::nullopt);
+    // The model a diagnosis with these options runs (run_diagnosis): threads_per_run,
+    // max_particles, packings_per_run and relative_density taken from them. One place for
+    // every caller that must build the same model (the plan, the stored model schemes, the
+    // MPI command line).
+    DemForwardModel(const protocol::TestScheme& base, const LabDataset& lab, const DiagnoseOptions& options,
+                    const DiagnoseObserver* cancel = nullptr);
 
     std::vector<ParameterSpec> base_parameters() const override;
     std::vector<ParameterSpec> effect_parameters(Effect e) const override;

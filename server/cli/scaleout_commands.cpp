@@ -182,8 +182,7 @@ int diagnose_command(int argc, char** argv) {
     }
     // Every rank builds the same model from the same files (no cancel: the service ends an
     // MPI diagnosis by ending mpirun).
-    const diagnose::DemForwardModel model(scheme, lab, options.threads_per_run, options.max_particles, nullptr,
-                                          options.packings_per_run, options.relative_density);
+    const diagnose::DemForwardModel model(scheme, lab, options);
     StderrDiagnoseObserver observer;
     diagnose::DiagnosisReport report;
     if (!ranks.mpi()) {

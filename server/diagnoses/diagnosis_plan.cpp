@@ -20,8 +20,7 @@ json minutes_json(const MinutesRange& m) { return {{"low", m.low}, {"typical", m
 
 DiagnosisCost plan_diagnosis_cost(const diagnose::LabDataset& lab, const protocol::TestScheme& scheme,
                                   const diagnose::DiagnoseOptions& options) {
-    const diagnose::DemForwardModel model(scheme, lab, options.threads_per_run, options.max_particles, nullptr,
-                                          options.packings_per_run, options.relative_density);
+    const diagnose::DemForwardModel model(scheme, lab, options);
     DiagnosisCost cost;
     cost.plan = diagnose::plan_diagnosis(lab, model, options);
     diagnose::ModelPoint nominal;

@@ -81,8 +81,7 @@ std::string scheme_name(const std::string& base, double confining_pa) {
 json model_schemes_json(const protocol::TestScheme& scheme, const LabDataset& lab, const DiagnoseOptions& options,
                         const DiagnosisReport& report) {
     // As run_diagnosis builds it (dem_forward_model.cpp), without the cancel observer.
-    const DemForwardModel model(scheme, lab, options.threads_per_run, options.max_particles, nullptr,
-                                options.packings_per_run, options.relative_density);
+    const DemForwardModel model(scheme, lab, options);
     json out = json::array();
     for (const auto& run : model.engine_runs(final_point(model, report))) {
         protocol::TestScheme s = run.standalone_scheme();
