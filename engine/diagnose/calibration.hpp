@@ -27,9 +27,9 @@
 //     parameter units by the derivative of the unit-cube map; the n / n_eff factor
 //     accounts for correlated readings along a curve.
 // Runs of one batch are independent, so the evaluator may run them concurrently.
-// The interface uses std::vector, not Eigen types: the engine is compiled with
-// -march=native and its callers may not be, and Eigen objects allocated under one
-// alignment setting must not be freed under another.
+// The interface uses std::vector, not Eigen types: the engine may be compiled with
+// -march=native (TRIAX_NATIVE) and its callers may not be, and Eigen objects allocated
+// under one alignment setting must not be freed under another.
 #include <cstdint>
 #include <functional>
 #include <vector>

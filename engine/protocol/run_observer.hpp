@@ -43,8 +43,8 @@ public:
     // only during the call.
     virtual void on_snapshot(const SpecimenSnapshot&) {}
     // The specimen's world as a stage ends ("generation", "consolidation", "shear",
-    // "creep-k"): read it, do not keep the reference (the stored reference trajectory of
-    // tests/protocol digests positions and forces here).
+    // "creep-k"): read it, do not keep the reference (the statistical contract's ensemble,
+    // tests/support/reference_ensemble.hpp, reads the energy books here).
     virtual void stage_ended(const std::string& /*stage*/, const World& /*world*/) {}
     // Polled between increments; returning true ends the run with result.cancelled = true.
     virtual bool cancel_requested() { return false; }
