@@ -209,3 +209,34 @@ TEST_CASE("the stage classifier's rules on bare readings", "[server][lab][stage_
     CHECK(k.hold_begin == 4);
     CHECK(k.held_q == Approx(200.0));
 }
+
+TEST_CASE("GDS-Lab export: a creep stage's loading ramp is left out, its clock starts where q is held",
+          "[server][lab][stage_kind]") {
+    // Stage 1 consolidation (q ~ 0, skipped); stage 2 ramps q to 150 kPa in 60 s, then holds
+    // it for 2 h while the specimen creeps.
+    std::mt19937 rng(13);
+    std::normal_distribution<double> q_noise(0.0, 0.5), d_noise(0.0, 0.002);
+    std::ostringstream gds;
+    gds.precision(10);
+    gds << "Initial Height (mm):,200\n"
+           "Stage Number,Time since start of stage (s),Radial Pressure (kPa),Back Pressure (kPa),"
+           "Axial Displacement (mm),Deviator Stress (kPa)\n"
+           "1,0,300,200,0.00,0.2\n1,600,300,200,0.05,0.3\n";
+    for (int j = 0; j < 4; ++j)
+        gds << "2," << 15 * j << ",300,200," << 0.05 + 0.3 * j / 4.0 + d_noise(rng) << "," << 150.0 * j / 4.0 + q_noise(rng)
+            << "\n";
+    for (int i = 0; i <= 24; ++i)
+        gds << "2," << 60 + 300 * i << ",300,200," << 0.35 + 0.02 * std::log1p(5.0 * i) + d_noise(rng) << ","
+            << 150.0 + q_noise(rng) << "\n";
+    const auto d = io::parse_lab_gds(gds.str());
+    REQUIRE(d.curves.size() == 1);
+    const auto& c = d.curves[0];
+    CHECK(c.kind == diagnose::CurveKind::Creep);
+    CHECK(c.stage == 1);
+    REQUIRE(c.size() == 25);
+    CHECK(c.time_s.front() == Approx(0.0).margin(1e-9));
+    CHECK(c.time_s.back() == Approx(7200.0));
+    // From the last reading of stage 1: the loading step's 0.3 mm stays the first point.
+    CHECK(c.axial_deformation_m.front() == Approx(0.3e-3).margin(0.01e-3));
+    CHECK(c.axial_strain.front() == Approx(0.3 / 200.0).margin(0.01 / 200.0));
+}
