@@ -318,6 +318,8 @@ diagnose::LabDataset parse_lab_csv(std::string_view text, std::vector<std::strin
                         if (quantity == LabQuantity::AxialStrain || quantity == LabQuantity::AxialDeformation ||
                             quantity == LabQuantity::VolumetricStrain)
                             if (const auto origin = value_of(before, quantity)) *cell.value -= *origin;
+                        if (!std::isfinite(*cell.value))
+                            throw_at(cell.origin, "beyond the range of a reading once counted from the stage's origin");
                     }
                 }
                 note += "; its loading ramp (lines " + std::to_string(before.line) + "-" +
