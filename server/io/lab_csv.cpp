@@ -1,4 +1,5 @@
 #include "server/io/lab_format.hpp"
+#include "server/io/lab_stage_kind.hpp"
 #include "server/io/lab_table.hpp"
 
 #include <algorithm>
@@ -154,25 +155,13 @@ struct CsvRow {
     int stage = 0;
     double confining = 0.0, stress_level = 0.0;
     std::vector<std::pair<LabQuantity, LabCurveCollector::Cell>> cells;
+    bool loading_ramp = false;  // the ramp before a creep stage's hold: not part of its curve
 };
 
-// A stage of readings without a kind column: a creep stage holds q (>= 80 % of readings
-// within 5 % of the median, median > 1 kPa; the rule of the GDS reader), a shear stage
-// ramps it (its range is at least half of its largest value). Anything else is ambiguous.
-enum class StageShape { Holds, Ramps, Ambiguous };
-StageShape stage_shape(const std::vector<double>& q_kpa) {
-    if (q_kpa.size() < 3) return StageShape::Ambiguous;
-    std::vector<double> sorted = q_kpa;
-    std::sort(sorted.begin(), sorted.end());
-    const double median = sorted[sorted.size() / 2];
-    const double lo = sorted.front(), hi = sorted.back();
-    std::size_t near = 0;
-    for (double v : q_kpa) near += std::abs(v - median) <= 0.05 * std::abs(median) ? 1 : 0;
-    const bool holds = median > 1.0 && near >= 0.8 * static_cast<double>(q_kpa.size());
-    const bool ramps = hi - lo >= 0.5 * std::max(std::abs(lo), std::abs(hi)) && hi - lo > 1.0;
-    if (holds && !ramps) return StageShape::Holds;
-    if (ramps && !holds) return StageShape::Ramps;
-    return StageShape::Ambiguous;
+std::optional<double> value_of(const CsvRow& row, LabQuantity q) {
+    for (const auto& [quantity, cell] : row.cells)
+        if (quantity == q) return cell.value;
+    return std::nullopt;
 }
 
 }  // namespace
@@ -268,8 +257,11 @@ diagnose::LabDataset parse_lab_csv(std::string_view text, std::vector<std::strin
         rows.push_back(std::move(row));
     }
 
-    // No kind column: stage 0 is shear; a numbered stage is read from its q readings,
-    // since lab exports number every stage, shear included.
+    // No kind column: stage 0 is shear; a numbered stage's kind is read from its readings
+    // (lab_stage_kind.hpp), since lab exports number every stage, shear included. A creep
+    // stage that begins with its loading ramp starts where q reaches its held value: its
+    // clock starts there, and its deformation counts from the ramp's first reading (the
+    // level before loading), so the ramp's deformation is the stage's instantaneous part.
     if (!has_kind && has_stage) {
         std::map<std::pair<int, double>, std::vector<std::size_t>> groups;
         for (std::size_t i = 0; i < rows.size(); ++i)
@@ -281,19 +273,61 @@ diagnose::LabDataset parse_lab_csv(std::string_view text, std::vector<std::strin
             if (!has_q)
                 throw_at(first, which + ": without a kind column the kind is read from q, and there is no q column; "
                                         "add a kind column (shear or creep)");
-            std::vector<double> q;
-            for (auto i : members)
-                for (const auto& [quantity, cell] : rows[i].cells)
-                    if (quantity == LabQuantity::Deviator && cell.value) q.push_back(*cell.value * 1e-3);
-            const StageShape shape = stage_shape(q);
-            if (shape == StageShape::Ambiguous)
-                throw_at(first, which + ": cannot tell shear from creep (q neither holds within 5 % nor ramps); "
-                                        "add a kind column (shear or creep)");
-            const CurveKind kind = shape == StageShape::Holds ? CurveKind::Creep : CurveKind::Shear;
+            // The deformation the rules read: axial strain, else axial deformation.
+            const LabQuantity deformation =
+                value_of(rows[members.front()], LabQuantity::AxialStrain) ? LabQuantity::AxialStrain
+                                                                          : LabQuantity::AxialDeformation;
+            StageReadings readings;
+            bool timed = true, deformed = true;
+            for (auto i : members) {
+                const auto q = value_of(rows[i], LabQuantity::Deviator);
+                if (!q)
+                    throw_at({rows[i].line, 1, {}}, which + ": q is missing on this reading; without a kind column "
+                                                            "the kind is read from q (add a kind column)");
+                readings.q.push_back(*q * 1e-3);
+                readings.line.push_back(rows[i].line);
+                const auto t = value_of(rows[i], LabQuantity::Time);
+                const auto e = value_of(rows[i], deformation);
+                timed = timed && t.has_value();
+                deformed = deformed && e.has_value();
+                readings.time.push_back(t.value_or(0.0));
+                readings.deformation.push_back(e.value_or(0.0));
+            }
+            if (!timed) readings.time.clear();
+            if (!deformed) readings.deformation.clear();
+            const StageKind shape = classify_stage(readings);
+            if (shape.verdict == StageKind::Verdict::Ambiguous)
+                throw_at(first, which + ": cannot tell shear from creep: " + shape.reason + "; add a kind column (shear or creep)");
+            const CurveKind kind = shape.verdict == StageKind::Verdict::Creep ? CurveKind::Creep : CurveKind::Shear;
             for (auto i : members) rows[i].kind = kind;
-            if (notes)
-                notes->push_back(which + ": read as " + (kind == CurveKind::Creep ? "creep (q held)" : "shear (q ramps)") +
-                                 " - no kind column");
+            std::string note = which + ": read as " + (kind == CurveKind::Creep ? "creep" : "shear") + " (" + shape.reason +
+                               ") - no kind column";
+            if (kind == CurveKind::Creep && shape.hold_begin > 0) {
+                const CsvRow& before = rows[members.front()];
+                const CsvRow& held = rows[members[shape.hold_begin]];
+                const auto t0 = value_of(held, LabQuantity::Time);
+                for (std::size_t k = 0; k < members.size(); ++k) {
+                    CsvRow& row = rows[members[k]];
+                    if (k < shape.hold_begin) {
+                        row.loading_ramp = true;
+                        continue;
+                    }
+                    for (auto& [quantity, cell] : row.cells) {
+                        if (!cell.value) continue;
+                        if (quantity == LabQuantity::Time && t0) *cell.value -= *t0;
+                        if (quantity == LabQuantity::AxialStrain || quantity == LabQuantity::AxialDeformation ||
+                            quantity == LabQuantity::VolumetricStrain)
+                            if (const auto origin = value_of(before, quantity)) *cell.value -= *origin;
+                        if (!std::isfinite(*cell.value))
+                            throw_at(cell.origin, "beyond the range of a reading once counted from the stage's origin");
+                    }
+                }
+                note += "; its loading ramp (lines " + std::to_string(before.line) + "-" +
+                        std::to_string(rows[members[shape.hold_begin - 1]].line) + ") is left out: time from line " +
+                        std::to_string(held.line) + ", deformation from line " + std::to_string(before.line) +
+                        " (the ramp's deformation is the stage's instantaneous part)";
+            }
+            if (notes) notes->push_back(note);
         }
         // Numbered shear stages are ordinary shear curves.
         for (auto& row : rows)
@@ -302,6 +336,7 @@ diagnose::LabDataset parse_lab_csv(std::string_view text, std::vector<std::strin
 
     LabCurveCollector collector;
     for (auto& row : rows) {
+        if (row.loading_ramp) continue;
         CurveKind kind = row.kind;
         int stage = row.stage;
         if (!row.kind_given) kind = CurveKind::Shear;

@@ -1,4 +1,5 @@
 #include "server/io/lab_format.hpp"
+#include "server/io/lab_stage_kind.hpp"
 #include "server/io/lab_table.hpp"
 
 #include <algorithm>
@@ -9,11 +10,16 @@
 // GDS-Lab-style export: one row per reading, stages numbered by the logger. Conventions
 // taken here (also in docs/service.md):
 //  - stages whose deviator stays below 1 kPa (saturation, consolidation) are skipped;
-//  - a stage is a creep (constant-load) stage when >= 80 % of its readings lie within 5 %
-//    of the stage's median deviator; otherwise it is a shear stage;
+//  - a stage's kind is read from its readings as for a CSV stage without a kind column
+//    (lab_stage_kind.hpp: a creep stage holds q, possibly after its loading ramp; a shear
+//    stage's strain grows while q rises, peaks, softens or plateaus); a stage those rules
+//    cannot place keeps the older rule (creep when >= 80 % of its readings lie within 5 %
+//    of its median deviator, else shear) rather than refusing an export that has no kind
+//    column to add;
 //  - creep stages are renumbered 1..n in order; their axial deformation is measured from
 //    the last reading before the stage (so the instantaneous deformation of the load step
-//    is kept), their time is "Time since start of stage";
+//    is kept), their time is "Time since start of stage"; a loading ramp at the start of
+//    the stage is left out and the stage's time starts at its first held reading;
 //  - shear strains are rebased to the first reading of the shear stage;
 //  - "Volume Change (mm3)" positive = water out of the specimen = contraction; volumetric
 //    strain needs the initial height and diameter from the preamble.
@@ -173,9 +179,22 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
         const double median = sorted[sorted.size() / 2];
         const double qmax = *std::max_element(q.begin(), q.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
         if (std::abs(qmax) >= 1.0) {
-            std::size_t near = 0;
-            for (double v : q) near += std::abs(v - median) <= 0.05 * std::abs(median);
-            const bool creep = median > 1.0 && near >= 0.8 * static_cast<double>(q.size()) && q.size() >= 2;
+            StageReadings readings;
+            readings.q = q;
+            for (std::size_t i = begin; i < end; ++i) {
+                readings.time.push_back(rows[i].t_s);
+                readings.deformation.push_back(rows[i].strain);
+                readings.line.push_back(rows[i].rec->line);
+            }
+            const StageKind shape = classify_stage(readings);
+            bool creep = shape.verdict == StageKind::Verdict::Creep;
+            if (shape.verdict == StageKind::Verdict::Ambiguous) {
+                std::size_t near = 0;
+                for (double v : q) near += std::abs(v - median) <= 0.05 * std::abs(median);
+                creep = median > 1.0 && near >= 0.8 * static_cast<double>(q.size()) && q.size() >= 2;
+            }
+            // A creep stage's loading ramp is not part of its curve; its clock starts where q is held.
+            const std::size_t held = creep ? begin + shape.hold_begin : begin;
             const Reading& first = rows[begin];
             const Reading& before = begin > 0 ? rows[begin - 1] : first;
             double confining = 0.0;
@@ -185,11 +204,12 @@ diagnose::LabDataset parse_lab_gds(std::string_view text) {
                 throw LabParseError("stage " + std::to_string(first.stage) + " has a non-positive confining pressure",
                                     first.rec->line, 1);
             const int stage = creep ? ++creep_count : 0;
-            for (std::size_t i = begin; i < end; ++i) {
+            for (std::size_t i = held; i < end; ++i) {
                 const auto& x = rows[i];
                 const LabCellOrigin o{x.rec->line, 1, {}};
                 std::vector<std::pair<LabQuantity, LabCurveCollector::Cell>> cells;
-                cells.push_back({LabQuantity::Time, {rebase_time ? x.t_s - first.t_s : x.t_s, o}});
+                const double clock0 = held > begin ? rows[held].t_s : rebase_time ? first.t_s : 0.0;
+                cells.push_back({LabQuantity::Time, {x.t_s - clock0, o}});
                 cells.push_back({LabQuantity::Deviator, {x.q_kpa * 1e3, o}});
                 if (creep) {
                     if (x.has_disp) cells.push_back({LabQuantity::AxialDeformation, {(x.disp_mm - before.disp_mm) * 1e-3, o}});
