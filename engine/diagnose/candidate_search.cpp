@@ -10,6 +10,7 @@
 
 #include "engine/diagnose/diagnosis_driver.hpp"
 #include "engine/diagnose/model_selection.hpp"
+#include "engine/diagnose/residuals.hpp"
 
 namespace triax::diagnose {
 
@@ -176,10 +177,28 @@ Fit DiagnosisDriver::fit_candidate(const Fit& same, Effect e, const UnitPoint* s
     return fit(v, start, 0, opt_.refine_runs, false, &h, std::move(probes), 1);
 }
 
+std::vector<double> DiagnosisDriver::nrmse_on_other_packings(const Fit& f) {
+    std::vector<std::uint64_t> seeds;
+    for (int k = 1; k < opt_.noise_seeds; ++k) seeds.push_back(opt_.seed + static_cast<std::uint64_t>(k));
+    std::vector<double> out;
+    for (const auto& r : eval_.replicates(f.variant, f.cal.best, seeds)) {
+        double ss = 0.0;
+        if (r.empty()) ss = kUnreachedPenalty * kUnreachedPenalty * static_cast<double>(eval_.readings());
+        for (double x : r) ss += x * x;
+        out.push_back(nrmse_of(ss));
+    }
+    return out;
+}
+
 // Records a step's candidates and picks the winner (index in `fits`, or -1). One n_eff for
 // all, from the best-fitting model's residual. A candidate wins only if it lowers BIC by
-// more than the threshold AND lowers the pooled NRMSE by more than the packing scatter: a
-// gain a change of packing could give is not evidence of missing physics.
+// more than the threshold AND its gain is beyond what a change of packing gives. That gain
+// is paired: the step's model with and without the effect are run on the same packings
+// (the calibration's and the noise floor's), and the mean of the per-packing gains in
+// pooled NRMSE must exceed their standard deviation. The packing's own stick-slip history
+// is common to both runs of a pair and cancels; an effect fitted to one packing's noise
+// gains nothing on the others. With a single packing (noise_seeds 1) the gain must exceed
+// the packing scatter of the misfit itself, the model_nrmse of the noise floor.
 int DiagnosisDriver::select(Fit& same, std::vector<Fit>& fits, std::vector<CandidateResult>& cands, int step) {
     const std::size_t n = eval_.readings();
     const Fit* best_fit = &same;
@@ -188,6 +207,8 @@ int DiagnosisDriver::select(Fit& same, std::vector<Fit>& fits, std::vector<Candi
     const double n_eff = effective_readings(best_fit->cal.residual, eval_.ranges());
     same.bic = bic(same.cal.rss, n, n_eff, same.specs.size());
     const double floor = rep_.noise.model_nrmse;
+    std::vector<double> without_elsewhere;  // the step's model on the other packings, run once
+    bool without_run = false;
     int winner = -1;
     std::vector<std::pair<std::string, double>> bics;
     for (std::size_t i = 0; i < fits.size(); ++i) {
@@ -211,7 +232,26 @@ int DiagnosisDriver::select(Fit& same, std::vector<Fit>& fits, std::vector<Candi
             continue;
         }
         const double gain = std::sqrt(same.cal.rss / static_cast<double>(n)) - c.nrmse;
-        if (gain <= floor) {
+        if (opt_.noise_seeds > 1) {
+            if (!without_run) without_elsewhere = nrmse_on_other_packings(same), without_run = true;
+            const std::vector<double> with_elsewhere = nrmse_on_other_packings(f);
+            c.paired_gains = {gain};
+            for (std::size_t k = 0; k < with_elsewhere.size() && k < without_elsewhere.size(); ++k)
+                c.paired_gains.push_back(without_elsewhere[k] - with_elsewhere[k]);
+            double mean = 0.0, var = 0.0;
+            for (double g : c.paired_gains) mean += g / static_cast<double>(c.paired_gains.size());
+            for (double g : c.paired_gains) var += (g - mean) * (g - mean);
+            const double spread = std::sqrt(var / static_cast<double>(std::max<std::size_t>(1, c.paired_gains.size() - 1)));
+            if (!(mean > spread)) {
+                std::ostringstream why;
+                why.precision(3);
+                why << "not named: on " << c.paired_gains.size() << " packings it lowers NRMSE by " << 100.0 * mean
+                    << " % on average, not more than the spread of that gain between packings (" << 100.0 * spread
+                    << " %)";
+                c.note = why.str();
+                continue;
+            }
+        } else if (gain <= floor) {
             std::ostringstream why;
             why.precision(3);
             why << "not named: lowers NRMSE by " << 100.0 * gain << " %, not more than a change of packing ("

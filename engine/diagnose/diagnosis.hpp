@@ -83,6 +83,10 @@ struct CandidateResult {
     double bic = 0.0;
     double delta_bic_vs_base = 0.0;           // vs the model of this step without it; negative = better
     double nrmse = 0.0;                       // pooled NRMSE after fit
+    // Paired gains: the pooled NRMSE of the step's model without the effect less the one
+    // with it, both run on the same packing, one per packing (the calibration's first,
+    // then the noise floor's). Empty when the candidate did not reach that test.
+    std::vector<double> paired_gains;
     std::string note;                         // why it was not fitted / failed
 };
 

@@ -16,8 +16,11 @@ DiagnosisDriver::DiagnosisDriver(const LabDataset& lab, const ForwardModel& mode
     int physical = 0;
     for (const auto& [e, s] : eval_.effect_specs()) physical += is_test_artefact(e) ? 0 : 1;
     const int k = static_cast<int>(eval_.base_specs().size());
+    // Paired gains: per step the model without the candidates and each candidate that passes
+    // BIC, on the noise floor's other packings.
+    const int paired = opt_.max_effects * (opt_.max_candidates + 1) * std::max(0, opt_.noise_seeds - 1);
     planned_runs_ = opt_.budget_runs + std::max(0, opt_.noise_seeds - 1) + 2 * (k + 2) +
-                    opt_.max_effects * (physical + (opt_.max_candidates + 1) * std::max(opt_.refine_runs, 1));
+                    opt_.max_effects * (physical + (opt_.max_candidates + 1) * std::max(opt_.refine_runs, 1)) + paired;
     eval_.on_run([this](int) { report_progress(); });
     for (const auto& [e, why] : eval_.not_offered()) rep_.not_testable.push_back({std::string(effect_name(e)), why});
     rep_.held_fixed = model.held_fixed();

@@ -59,6 +59,9 @@ private:
                                               bool with_prior_line);
     Fit fit_candidate(const Fit& same, Effect e, const UnitPoint* signature_start);
     bool barely_on(const Fit& f) const;
+    // Pooled NRMSE of the variant at the fit's point on each of the noise floor's packings
+    // (a failed run counts as every reading unreached).
+    std::vector<double> nrmse_on_other_packings(const Fit& f);
     int select(Fit& same, std::vector<Fit>& fits, std::vector<CandidateResult>& cands, int step);
 
     const DiagnoseOptions& opt_;

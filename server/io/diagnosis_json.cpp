@@ -148,6 +148,7 @@ json candidate_to_json(const CandidateResult& c) {
             {"parameters", parameters_to_json(c.parameters)},
             {"rss", c.rss},
             {"nrmse", c.nrmse},
+            {"paired_gains", c.paired_gains},
             {"bic", c.bic},
             {"delta_bic_vs_base", c.delta_bic_vs_base},
             {"note", c.note}};
@@ -217,6 +218,7 @@ CandidateResult candidate_from_json(const json& c) {
     cr.parameters = parameters_from_json(c.value("parameters", json::array()));
     cr.rss = c.value("rss", 0.0);
     cr.nrmse = c.value("nrmse", 0.0);
+    cr.paired_gains = c.value("paired_gains", std::vector<double>{});
     cr.bic = c.value("bic", 0.0);
     cr.delta_bic_vs_base = c.value("delta_bic_vs_base", 0.0);
     cr.note = c.value("note", std::string{});
