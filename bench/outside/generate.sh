@@ -1,5 +1,5 @@
 #!/bin/sh
-# Outside suite: every YADE run of bench/outside/cases.json, two at a time, niced
+# Outside suite: the YADE runs of bench/outside/cases.json, one after another, niced
 # (bench/outside/README.md). Writes bench/outside/raw/ and then the datasets (make_cases.py).
 #   bench/outside/generate.sh [run names...]   (default: all, in the order below)
 # The creep runs load the consolidated dense 100 kPa state, so they wait for dense_100.
@@ -29,14 +29,9 @@ run() {
             one "$1" 100 ",\"mode\":\"creep\",\"creep_c\":$c,\"q_peak_kPa\":$qp,\"state\":\"$STATE/dense_100kPa.yade.gz\"" ;;
     esac
 }
-jobs="${*:-dense:100 dense:50 dense:200 creep_fast:100 roll_strong:50 roll_strong:100 roll_strong:200 loose:50 loose:100 loose:200 creep_slow:100 roll_weak:50 roll_weak:100 roll_weak:200}"
-# Two slots; a creep job runs only after dense:100 has written its state.
-for j in $jobs; do echo "$j"; done | {
-    while read -r j; do
-        while [ "$(jobs -p | wc -l)" -ge 2 ]; do sleep 5; done
-        case $j in creep_*) while [ ! -f "$RAW/dense_100kPa_shear.json" ]; do sleep 10; done ;; esac
-        run "${j%%:*}" "${j#*:}" &
-    done
-    wait
-}
+# Runs its list one after another; the README runs two lists side by side (two cores).
+for j in ${*:-dense:100 dense:50 dense:200 creep_fast:100 roll_strong:50 roll_strong:100 roll_strong:200 loose:50 loose:100 loose:200 creep_slow:100 roll_weak:50 roll_weak:100 roll_weak:200}; do
+    case $j in creep_*) while [ ! -f "$RAW/dense_100kPa_shear.json" ]; do sleep 10; done ;; esac
+    run "${j%%:*}" "${j#*:}"
+done
 python3 make_cases.py

@@ -20,8 +20,8 @@ Noise (seeded normal): q 0.5 kPa + 0.3 % of the curve's largest q, volumetric st
 import csv, json, math, os, random
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-RAW = os.path.join(HERE, "raw")
-DATA = os.path.join(HERE, "data")
+RAW = os.environ.get("OUTSIDE_RAW", os.path.join(HERE, "raw"))
+DATA = os.environ.get("OUTSIDE_DATA", os.path.join(HERE, "data"))
 SIGMA3 = [50, 100, 200]
 STEP_PCT = 0.125  # shear readings every 0.125 % axial strain: 121 per curve to 15 %
 
@@ -148,19 +148,19 @@ def main():
             blocks.append((100, shear_rows(read_raw("dense_100kPa_shear.csv"), rng)))
             blocks.append((100, creep_rows(read_raw(c["runs"] + "_100kPa_creep.csv"), rng, c.get("thermal_pct", 0.0))))
         else:
+            # Every confining pressure whose YADE curve exists (all three when the runs are done).
             for s3 in SIGMA3:
                 raw = "%s_%dkPa_shear.csv" % (c["runs"], s3)
-                if not os.path.exists(os.path.join(RAW, raw)):
-                    blocks = None
-                    break
-                blocks.append((s3, shear_rows(read_raw(raw), rng, c.get("seating"), c.get("membrane"))))
-        if blocks is None:
+                if os.path.exists(os.path.join(RAW, raw)):
+                    blocks.append((s3, shear_rows(read_raw(raw), rng, c.get("seating"), c.get("membrane"))))
+        if not blocks:
             print("skip", c["name"], "(raw curves missing)")
             continue
         n = write(c["name"], blocks)
         entry = {k: v for k, v in c.items() if k not in ("creep",)}
         entry["file"] = "data/%s.csv" % c["name"]
         entry["rows"] = n
+        entry["sigma3_kPa"] = sorted(set(b[0] for b in blocks))
         manifest.append(entry)
         print(c["name"], n, "rows")
     manifest.append({"name": "grain_crushing", "answer": "bond_degradation", "file": None,
