@@ -17,7 +17,7 @@ CFG = {"case": "dense", "sigma3_kPa": 100.0, "seed": 11, "grains": 2000, "mu": 0
        "eta_roll": 0.0, "alpha_kr": 2.0, "mode": "shear", "max_strain": 0.15, "inertial_number": 2.5e-3,
        "young_Pa": 1.0e8, "poisson": 0.3, "density": 2650.0, "damping": 0.2,
        "q_peak_kPa": 0.0, "levels": [0.1, 0.4, 0.6, 0.8], "creep_c": 0.0, "t0_min": 1.0,
-       "steps_per_day": 8000, "state": ""}
+       "steps_per_day": 4000, "state": ""}
 CFG.update(json.loads(os.environ.get("OUT_CFG", "{}")))
 out_dir = os.environ.get("OUT_DIR", ".")
 s3 = CFG["sigma3_kPa"] * 1e3
@@ -128,7 +128,9 @@ def eps_v():
 
 if CFG["mode"] == "shear":
     ctl.stressMask = 3
-    ctl.goal = Vector3(-s3, -s3, -0.25)
+    # The controller's strain is the log strain since the cell was made (the consolidation
+    # already compressed z): the goal is 0.3 more compression than now, beyond 15 %.
+    ctl.goal = Vector3(-s3, -s3, ctl.strain[2] - 0.3)
     ctl.maxStrainRate = Vector3(10 * rate, 10 * rate, rate)
     every = max(1, int(round(0.0005 / (rate * O.dt))))
     rows, unb = [], []
