@@ -170,5 +170,29 @@ def main():
         f.write("\n")
 
 
+def runs_table():
+    """The YADE runs' checks (raw/*.json) as a markdown table, for the README."""
+    print("| run | sigma3 kPa | porosity | consolidation + relax steps | shear/creep steps | q peak kPa | unbalanced mean / max | lateral kPa min-max | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name in sorted(os.listdir(RAW)):
+        if not name.endswith(".json"):
+            continue
+        j = json.load(open(os.path.join(RAW, name)))
+        c, cons = j["cfg"], j.get("consolidation", {})
+        steps = j.get("steps", 0) - cons.get("consolidation_steps", 0) - cons.get("relax_steps", 0)
+        if c["mode"] == "creep":
+            steps = j.get("steps", 0)  # counted from the loaded state's iteration
+        print("| %s | %g | %.3f | %s + %s | %s | %s | %s | %s | %.0f |" % (
+            name[:-5], c["sigma3_kPa"], cons.get("porosity", float("nan")), cons.get("consolidation_steps", "-"),
+            cons.get("relax_steps", "-"), steps, "%.1f" % j["q_peak_kPa"] if "q_peak_kPa" in j else "-",
+            "%.3f / %.3f" % (j["unbalanced_mean"], j["unbalanced_max"]) if "unbalanced_mean" in j else "-",
+            "%.1f-%.1f" % (j["lateral_kPa_min"], j["lateral_kPa_max"]) if "lateral_kPa_min" in j else "-",
+            j.get("wall_s", float("nan"))))
+
+
 if __name__ == "__main__":
-    main()
+    import sys
+    if sys.argv[1:] == ["runs"]:
+        runs_table()
+    else:
+        main()
