@@ -13,9 +13,9 @@ one() {  # name sigma3 json-extra
     save=""
     [ "$name" = dense ] && save=$STATE/dense_${s3}kPa.yade.gz
     echo "$(date -u +%T) start $name $s3" >&2
-    SAVE_STATE=$save OUT_DIR=$RAW OUT_CFG="{\"case\":\"$name\",\"sigma3_kPa\":$s3$extra}" \
     rc=0
-    nice -n 19 yade -n -x yade_triax.py > "$RAW/${name}_${s3}kPa.log" 2>&1 || rc=$?
+    SAVE_STATE=$save OUT_DIR=$RAW OUT_CFG="{\"case\":\"$name\",\"sigma3_kPa\":$s3$extra}" \
+        nice -n 19 yade -n -x yade_triax.py > "$RAW/${name}_${s3}kPa.log" 2>&1 || rc=$?
     echo "$(date -u +%T) done $name $s3 rc=$rc" >&2   # a failed run does not stop the list
 }
 run() {
