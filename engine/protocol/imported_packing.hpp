@@ -43,9 +43,11 @@ struct ImportedPacking {
 // Tolerances of validate_packing, as fractions of the smaller radius of a pair.
 struct PackingTolerance {
     // A grain pair may overlap by at most this x r_min of the pair. Radius expansion locks
-    // overlaps of a few per cent (over 10 % in a 40-grain specimen) into generated packings;
-    // a radius written as a diameter, or a wrong unit, gives 100 % and more.
-    double overlap = 0.25;
+    // overlaps of a few per cent into generated packings, and up to 27.5 % into the
+    // 60-grain specimen of tests/protocol/packing_round_trip_test.cpp on one build (the
+    // locked overlap depends on the trajectory's last bits); the engine's own packings must
+    // import on any build. A radius written as a diameter, or a wrong unit, gives 100 % and more.
+    double overlap = 0.5;
     double outside = 0.05;   // a grain may cross a platen by this x its radius (its centre must be inside the cylinder)
 };
 

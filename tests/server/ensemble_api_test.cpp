@@ -98,7 +98,10 @@ TEST_CASE("an ensemble of three seeds: bands per point, regime shares, CSVs in l
         const long long scheme_id = sub.body["scheme_id"];
         CHECK(srv.get("/schemes/" + std::to_string(scheme_id)).body["name"] == "tiny-ensemble");
 
-        done = wait_ensemble(srv, id, "done");
+        // A member's consolidation may run to its 400,000-step cap when the 40 grains never
+        // settle below the unbalanced-force tolerance (seed 1 on the x86-64 baseline build:
+        // 874k steps, 96 s on a shared core, against 29 s for seed 2): time for that.
+        done = wait_ensemble(srv, id, "done", 400);
         CHECK(done["members_done"] == 3);
         CHECK(done["members_total"] == 3);
         CHECK(done["progress_pct"] == 100.0);
