@@ -2,6 +2,7 @@
 
 #include "server/io/bounded_json.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -54,6 +55,18 @@ std::size_t invalid_utf8_at(std::string_view s) {
         i += n + 1;
     }
     return std::string_view::npos;
+}
+
+void check_resource_name(std::string_view name, const std::string& what) {
+    if (invalid_utf8_at(name) != std::string_view::npos) throw bad_request(what + " is not UTF-8 text");
+    // Characters, not bytes: continuation bytes (10xxxxxx) do not start one.
+    const auto chars = static_cast<std::size_t>(
+        std::count_if(name.begin(), name.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+    if (chars > kMaxNameChars)
+        throw unprocessable(what + " is longer than " + std::to_string(kMaxNameChars) + " characters")
+            .with_limit("name length <= " + std::to_string(kMaxNameChars));
+    if (std::any_of(name.begin(), name.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
+        throw unprocessable(what + " holds a control character (tab, newline, ...)");
 }
 
 nlohmann::json parse_body(const httplib::Request& req) {
