@@ -3,6 +3,7 @@
 #include "server/io/lab_format.hpp"
 #include "server/scaleout/mpi_job_launcher.hpp"
 
+#include "server/http/internal_error.hpp"
 #include "server/http/problem.hpp"
 
 #include <sys/socket.h>
@@ -32,6 +33,17 @@ httplib::Server::HandlerWithContentReader read_capped(std::size_t cap, httplib::
                                                 const httplib::ContentReader& reader) {
         std::string body;
         std::size_t seen = 0;
+        if (req.is_multipart_form_data()) {
+            // Form uploads are not taken (the file or document is the body itself), and
+            // cpp-httplib cannot hand a multipart body to a plain reader: read and drop it,
+            // so that the client reads the 415.
+            reader([](const httplib::MultipartFormData&) { return true; },
+                   [&](const char*, std::size_t n) { return (seen += n) <= cap + kDrainBytes; });
+            throw ApiError(415, "Unsupported Media Type",
+                           "multipart/form-data is not accepted: send the document itself as the body, "
+                           "Content-Type application/json for JSON endpoints, the file as text (text/csv, "
+                           "text/plain) for POST /datasets and POST /packings");
+        }
         const bool complete = reader([&](const char* data, std::size_t n) {
             seen += n;
             if (seen <= cap) body.append(data, n);
@@ -166,15 +178,14 @@ void Service::register_routes() {
         } catch (const ApiError& e) {
             send_problem(res, e, req.path);
         } catch (const StoreError& e) {
-            const bool full = e.code == SQLITE_FULL;
-            send_problem(res,
-                         ApiError(full ? 507 : 500, full ? "Insufficient Storage" : "Storage Error",
-                                  std::string("the store failed: ") + e.what()),
-                         req.path);
+            if (e.code == SQLITE_FULL)
+                send_problem(res, ApiError(507, "Insufficient Storage", "the disk holding the store is full"), req.path);
+            else
+                send_problem(res, internal_error(req, std::string("store: ") + e.what()), req.path);
         } catch (const std::exception& e) {
-            send_problem(res, ApiError(500, "Internal Server Error", e.what()), req.path);
+            send_problem(res, internal_error(req, e.what()), req.path);
         } catch (...) {
-            send_problem(res, ApiError(500, "Internal Server Error", "unknown error"), req.path);
+            send_problem(res, internal_error(req, "an exception that is not a std::exception"), req.path);
         }
     });
     // Unmatched routes and httplib's own refusals (e.g. 413) become problem details too; a

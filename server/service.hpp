@@ -122,8 +122,9 @@ private:
 
 // Route groups, one file each.
 void register_service_routes(Service& s);
-// Paths under the web directory that are not served (its npm tree; the page's packages are
-// served through the /vendor/ whitelist).
+// Paths that are not served: any with an empty or dot segment ("//", "/./", "/../"), and
+// the web directory's npm tree (the page's packages are served through the /vendor/
+// whitelist).
 bool is_private_web_path(const std::string& path);
 void register_scheme_routes(Service& s);
 void register_run_routes(Service& s);

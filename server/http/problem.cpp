@@ -17,11 +17,13 @@ nlohmann::json problem_json(const ApiError& e, const std::string& instance) {
     if (e.line) p["line"] = *e.line;
     if (e.column) p["column"] = *e.column;
     if (e.limit) p["limit"] = *e.limit;
+    if (e.request_id) p["request_id"] = *e.request_id;
     return p;
 }
 
 void send_problem(httplib::Response& res, const ApiError& e, const std::string& instance) {
     res.status = e.status;
+    if (e.request_id) res.set_header("X-Request-Id", *e.request_id);
     // `replace`: a detail quoting bad bytes of an upload must still be sent; a throwing
     // dump here would escape the exception handler and end the process.
     res.set_content(problem_json(e, instance).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),

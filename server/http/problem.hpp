@@ -18,6 +18,7 @@ struct ApiError : std::runtime_error {
     std::optional<std::string> field;  // JSON pointer into the request body
     std::optional<int> line, column;   // position in an uploaded file (1-based)
     std::optional<std::string> limit;  // the limit that was exceeded, e.g. "particle_count <= 200000"
+    std::optional<std::string> request_id;  // a 500: the id under which stderr has the cause
     ApiError(int status, std::string title, const std::string& detail)
         : std::runtime_error(detail), status(status), title(std::move(title)) {}
     ApiError& at_field(std::string pointer) { field = std::move(pointer); return *this; }
