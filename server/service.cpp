@@ -93,6 +93,9 @@ ServiceConfig checked(ServiceConfig c) {
     if (c.http_threads < c.max_event_streams + 8)
         throw std::invalid_argument("--http-threads must exceed --max-streams by at least 8 (requests need threads)");
     if (c.listen_backlog < 128) throw std::invalid_argument("--backlog must be >= 128");
+    if (c.head_timeout < std::chrono::milliseconds(100) || c.head_timeout > std::chrono::minutes(10))
+        throw std::invalid_argument("--head-timeout must be in [0.1, 600] s");
+    if (c.max_waiting_connections < 16) throw std::invalid_argument("--max-waiting must be >= 16");
     for (char ch : c.token)
         if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.' && ch != '~')
             throw std::invalid_argument("--token may hold only letters, digits and - _ . ~");
@@ -131,11 +134,16 @@ Service::Service(ServiceConfig cfg, RunExecutor executor)
 Service::~Service() { stop(); }
 
 void Service::register_routes() {
-    const auto threads = static_cast<std::size_t>(config.http_threads);
-    http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    ConnectionLimits limits;
+    limits.threads = static_cast<std::size_t>(config.http_threads);
+    limits.gate.head_timeout = config.head_timeout;
+    // An idle kept-alive connection waits in the gate (a descriptor, no thread) this long.
+    limits.gate.idle_timeout = std::chrono::seconds(2);
+    limits.gate.max_pending = static_cast<std::size_t>(config.max_waiting_connections);
+    limits.body_timeout = config.body_timeout;
+    http.set_connection_limits(limits);
     http.set_payload_max_length(config.max_body_bytes);
-    // An idle keep-alive connection holds a thread: give it back soon.
-    http.set_keep_alive_timeout(2);
+    // Each read of a body and each write of an answer waits at most this long.
     http.set_read_timeout(10, 0);
     // cpp-httplib listens with a backlog of 5 (compiled into Debian's library): keep the
     // listening socket to listen() on it again with ours after the bind (Service::bind).
