@@ -5,6 +5,10 @@
 #include "server/runs/engine_executor.hpp"
 #include "server/service.hpp"
 
+#include <malloc.h>
+#include <sys/resource.h>
+
+#include <chrono>
 #include <csignal>
 #include <pthread.h>
 #include <thread>
@@ -19,6 +23,7 @@ void usage() {
     std::cout << "usage: triaxd [--host H] [--port P] [--data-dir DIR] [--web-dir DIR] [--schema-dir DIR]\n"
                  "              [--workers N] [--threads-per-run N] [--queue-limit N] [--max-particles N]\n"
                  "              [--token T] [--allow-host NAME]... [--http-threads N] [--max-streams N] [--backlog N]\n"
+                 "              [--head-timeout S] [--max-waiting N]\n"
                  "              [--mpi-hostfile FILE] [--mpi-ranks N] [--mpi-triax PATH]\n"
                  "env: TRIAX_HOST, TRIAX_PORT, TRIAX_DATA_DIR, TRIAX_TOKEN, TRIAX_MPI_HOSTFILE, TRIAX_MPI_RANKS\n"
                  "--mpi-ranks N > 0: each diagnosis runs as `mpirun [--hostfile FILE] -np N triax diagnose ...`\n"
@@ -39,6 +44,16 @@ int to_int(const std::string& flag, const std::string& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Buffers of 1 MiB and more (uploads, their parsed forms) are mapped and unmapped, so
+    // their memory returns to the system when freed; with glibc's sliding threshold they
+    // would come from the heaps of the HTTP threads and stay held there.
+    mallopt(M_MMAP_THRESHOLD, 1 << 20);
+    // Every waiting connection holds a descriptor (server/http/header_gate.hpp): take the
+    // hard limit rather than a soft 1024.
+    if (rlimit fds{}; getrlimit(RLIMIT_NOFILE, &fds) == 0 && fds.rlim_cur < fds.rlim_max) {
+        fds.rlim_cur = fds.rlim_max;
+        setrlimit(RLIMIT_NOFILE, &fds);
+    }
     triax::service::ServiceConfig cfg;
     try {
         if (const char* e = std::getenv("TRIAX_HOST")) cfg.host = e;
@@ -71,6 +86,8 @@ int main(int argc, char** argv) {
             else if (a == "--http-threads") cfg.http_threads = to_int(a, v);
             else if (a == "--max-streams") cfg.max_event_streams = to_int(a, v);
             else if (a == "--backlog") cfg.listen_backlog = to_int(a, v);
+            else if (a == "--head-timeout") cfg.head_timeout = std::chrono::seconds(to_int(a, v));
+            else if (a == "--max-waiting") cfg.max_waiting_connections = to_int(a, v);
             else if (a == "--mpi-hostfile") cfg.mpi.hostfile = v;
             else if (a == "--mpi-ranks") cfg.mpi.ranks = to_int(a, v);
             else if (a == "--mpi-triax") cfg.mpi.triax = v;

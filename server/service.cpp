@@ -3,6 +3,7 @@
 #include "server/io/lab_format.hpp"
 #include "server/scaleout/mpi_job_launcher.hpp"
 
+#include "server/http/internal_error.hpp"
 #include "server/http/problem.hpp"
 
 #include <sys/socket.h>
@@ -32,6 +33,17 @@ httplib::Server::HandlerWithContentReader read_capped(std::size_t cap, httplib::
                                                 const httplib::ContentReader& reader) {
         std::string body;
         std::size_t seen = 0;
+        if (req.is_multipart_form_data()) {
+            // Form uploads are not taken (the file or document is the body itself), and
+            // cpp-httplib cannot hand a multipart body to a plain reader: read and drop it,
+            // so that the client reads the 415.
+            reader([](const httplib::MultipartFormData&) { return true; },
+                   [&](const char*, std::size_t n) { return (seen += n) <= cap + kDrainBytes; });
+            throw ApiError(415, "Unsupported Media Type",
+                           "multipart/form-data is not accepted: send the document itself as the body, "
+                           "Content-Type application/json for JSON endpoints, the file as text (text/csv, "
+                           "text/plain) for POST /datasets and POST /packings");
+        }
         const bool complete = reader([&](const char* data, std::size_t n) {
             seen += n;
             if (seen <= cap) body.append(data, n);
@@ -81,6 +93,9 @@ ServiceConfig checked(ServiceConfig c) {
     if (c.http_threads < c.max_event_streams + 8)
         throw std::invalid_argument("--http-threads must exceed --max-streams by at least 8 (requests need threads)");
     if (c.listen_backlog < 128) throw std::invalid_argument("--backlog must be >= 128");
+    if (c.head_timeout < std::chrono::milliseconds(100) || c.head_timeout > std::chrono::minutes(10))
+        throw std::invalid_argument("--head-timeout must be in [0.1, 600] s");
+    if (c.max_waiting_connections < 16) throw std::invalid_argument("--max-waiting must be >= 16");
     for (char ch : c.token)
         if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.' && ch != '~')
             throw std::invalid_argument("--token may hold only letters, digits and - _ . ~");
@@ -119,11 +134,16 @@ Service::Service(ServiceConfig cfg, RunExecutor executor)
 Service::~Service() { stop(); }
 
 void Service::register_routes() {
-    const auto threads = static_cast<std::size_t>(config.http_threads);
-    http.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
+    ConnectionLimits limits;
+    limits.threads = static_cast<std::size_t>(config.http_threads);
+    limits.gate.head_timeout = config.head_timeout;
+    // An idle kept-alive connection waits in the gate (a descriptor, no thread) this long.
+    limits.gate.idle_timeout = std::chrono::seconds(2);
+    limits.gate.max_pending = static_cast<std::size_t>(config.max_waiting_connections);
+    limits.body_timeout = config.body_timeout;
+    http.set_connection_limits(limits);
     http.set_payload_max_length(config.max_body_bytes);
-    // An idle keep-alive connection holds a thread: give it back soon.
-    http.set_keep_alive_timeout(2);
+    // Each read of a body and each write of an answer waits at most this long.
     http.set_read_timeout(10, 0);
     // cpp-httplib listens with a backlog of 5 (compiled into Debian's library): keep the
     // listening socket to listen() on it again with ours after the bind (Service::bind).
@@ -166,15 +186,14 @@ void Service::register_routes() {
         } catch (const ApiError& e) {
             send_problem(res, e, req.path);
         } catch (const StoreError& e) {
-            const bool full = e.code == SQLITE_FULL;
-            send_problem(res,
-                         ApiError(full ? 507 : 500, full ? "Insufficient Storage" : "Storage Error",
-                                  std::string("the store failed: ") + e.what()),
-                         req.path);
+            if (e.code == SQLITE_FULL)
+                send_problem(res, ApiError(507, "Insufficient Storage", "the disk holding the store is full"), req.path);
+            else
+                send_problem(res, internal_error(req, std::string("store: ") + e.what()), req.path);
         } catch (const std::exception& e) {
-            send_problem(res, ApiError(500, "Internal Server Error", e.what()), req.path);
+            send_problem(res, internal_error(req, e.what()), req.path);
         } catch (...) {
-            send_problem(res, ApiError(500, "Internal Server Error", "unknown error"), req.path);
+            send_problem(res, internal_error(req, "an exception that is not a std::exception"), req.path);
         }
     });
     // Unmatched routes and httplib's own refusals (e.g. 413) become problem details too; a

@@ -7,6 +7,7 @@
 #include "server/ensembles/ensemble_service.hpp"
 #include "engine/protocol/test_scheme.hpp"
 #include "server/events/event_log.hpp"
+#include "server/http/gated_server.hpp"
 #include "server/http/request_guard.hpp"
 #include "server/http/sse.hpp"
 #include "server/io/json_schema_validator.hpp"
@@ -19,6 +20,7 @@
 #include <httplib.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -54,6 +56,13 @@ struct ServiceConfig {
     int http_threads = 320;
     int max_event_streams = 256;
     int listen_backlog = 512;              // pending connections the kernel queues (>= 128)
+    // A connection holds no HTTP thread until the head of a request has arrived
+    // (server/http/gated_server.hpp): it waits in the gate at most head_timeout (408), at
+    // most max_waiting_connections wait (the longest-waiting is closed beyond), and a
+    // request body must arrive within body_timeout of its head.
+    std::chrono::milliseconds head_timeout{10000};
+    std::chrono::milliseconds body_timeout{60000};
+    int max_waiting_connections = 512;
     std::string token;                     // --token / TRIAX_TOKEN: required on every route but /health
     std::vector<std::string> allowed_hosts;  // extra Host names accepted (--allow-host)
     // Diagnoses as MPI jobs (mpirun --hostfile H -np N triax diagnose ...) when ranks > 0.
@@ -93,7 +102,7 @@ public:
     EnsembleService ensembles;
     std::optional<io::JsonSchemaValidator> scheme_schema;  // absent if schema/scheme.schema.json is missing
     nlohmann::json openapi;
-    httplib::Server http;
+    GatedServer http;
     int interrupted_at_start = 0;
 
     // Registers a handler and records (method, OpenAPI path) so a test can check the
@@ -122,8 +131,9 @@ private:
 
 // Route groups, one file each.
 void register_service_routes(Service& s);
-// Paths under the web directory that are not served (its npm tree; the page's packages are
-// served through the /vendor/ whitelist).
+// Paths that are not served: any with an empty or dot segment ("//", "/./", "/../"), and
+// the web directory's npm tree (the page's packages are served through the /vendor/
+// whitelist).
 bool is_private_web_path(const std::string& path);
 void register_scheme_routes(Service& s);
 void register_run_routes(Service& s);

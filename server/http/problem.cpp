@@ -2,6 +2,7 @@
 
 #include "server/io/bounded_json.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -16,11 +17,13 @@ nlohmann::json problem_json(const ApiError& e, const std::string& instance) {
     if (e.line) p["line"] = *e.line;
     if (e.column) p["column"] = *e.column;
     if (e.limit) p["limit"] = *e.limit;
+    if (e.request_id) p["request_id"] = *e.request_id;
     return p;
 }
 
 void send_problem(httplib::Response& res, const ApiError& e, const std::string& instance) {
     res.status = e.status;
+    if (e.request_id) res.set_header("X-Request-Id", *e.request_id);
     // `replace`: a detail quoting bad bytes of an upload must still be sent; a throwing
     // dump here would escape the exception handler and end the process.
     res.set_content(problem_json(e, instance).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
@@ -54,6 +57,18 @@ std::size_t invalid_utf8_at(std::string_view s) {
         i += n + 1;
     }
     return std::string_view::npos;
+}
+
+void check_resource_name(std::string_view name, const std::string& what) {
+    if (invalid_utf8_at(name) != std::string_view::npos) throw bad_request(what + " is not UTF-8 text");
+    // Characters, not bytes: continuation bytes (10xxxxxx) do not start one.
+    const auto chars = static_cast<std::size_t>(
+        std::count_if(name.begin(), name.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+    if (chars > kMaxNameChars)
+        throw unprocessable(what + " is longer than " + std::to_string(kMaxNameChars) + " characters")
+            .with_limit("name length <= " + std::to_string(kMaxNameChars));
+    if (std::any_of(name.begin(), name.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
+        throw unprocessable(what + " holds a control character (tab, newline, ...)");
 }
 
 nlohmann::json parse_body(const httplib::Request& req) {

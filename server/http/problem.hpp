@@ -18,6 +18,7 @@ struct ApiError : std::runtime_error {
     std::optional<std::string> field;  // JSON pointer into the request body
     std::optional<int> line, column;   // position in an uploaded file (1-based)
     std::optional<std::string> limit;  // the limit that was exceeded, e.g. "particle_count <= 200000"
+    std::optional<std::string> request_id;  // a 500: the id under which stderr has the cause
     ApiError(int status, std::string title, const std::string& detail)
         : std::runtime_error(detail), status(status), title(std::move(title)) {}
     ApiError& at_field(std::string pointer) { field = std::move(pointer); return *this; }
@@ -37,6 +38,11 @@ void send_json(httplib::Response& res, const nlohmann::json& body, int status = 
 // Byte offset of the first byte that is not well-formed UTF-8, or npos. Stored text is
 // served as JSON, which must be UTF-8: bad bytes are refused at the door, not at reading.
 std::size_t invalid_utf8_at(std::string_view s);
+// The name a client gives a stored resource (`what` names it in the refusal, e.g. "query
+// parameter 'name'"): UTF-8 text (400), at most kMaxNameChars characters and no control
+// characters (422): it is shown in lists and on the page.
+constexpr std::size_t kMaxNameChars = 200;
+void check_resource_name(std::string_view name, const std::string& what);
 // Parses a request body as JSON or throws 400 naming the byte offset.
 nlohmann::json parse_body(const httplib::Request& req);
 // An integer member of a request body in [lo, hi], or 422 naming `pointer`; an unsigned

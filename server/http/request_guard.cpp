@@ -1,5 +1,7 @@
 #include "server/http/request_guard.hpp"
 
+#include "server/http/host_header.hpp"
+
 #include <algorithm>
 #include <cctype>
 
@@ -12,32 +14,11 @@ std::string lower(std::string s) {
     return s;
 }
 
-// Splits "name:port" / "[v6]:port"; port -1 when absent.
-std::pair<std::string, int> split_host(const std::string& h) {
-    std::string name = h;
-    int port = -1;
-    const auto close = h.rfind(']');
-    const auto colon = h.rfind(':');
-    if (colon != std::string::npos && (close == std::string::npos || colon > close)) {
-        name = h.substr(0, colon);
-        const std::string p = h.substr(colon + 1);
-        if (p.empty() || p.size() > 5 || !std::all_of(p.begin(), p.end(), [](unsigned char c) { return std::isdigit(c); }))
-            return {"", -2};
-        port = std::stoi(p);
-    }
-    if (name.size() >= 2 && name.front() == '[' && name.back() == ']') name = name.substr(1, name.size() - 2);
-    return {lower(name), port};
-}
-
-bool is_ip_literal(const std::string& name) {
-    if (name.find(':') != std::string::npos) return true;  // IPv6
-    if (name.empty()) return false;
-    return std::all_of(name.begin(), name.end(), [](unsigned char c) { return std::isdigit(c) || c == '.'; });
-}
-
 bool is_wildcard(const std::string& host) { return host == "0.0.0.0" || host == "::" || host.empty(); }
-bool is_loopback(const std::string& host) {
-    return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+
+// The one page load that may carry the token in its URL: the entry link "/?token=T".
+bool is_page_entry(const httplib::Request& req) {
+    return req.method == "GET" && (req.path == "/" || req.path == "/index.html") && req.has_param("token");
 }
 
 std::string cookie_value(const httplib::Request& req, const std::string& name) {
@@ -65,18 +46,20 @@ bool same_secret(const std::string& a, const std::string& b) {
 }
 
 bool RequestGuard::host_allowed(const std::string& host_header) const {
-    const auto [name, port] = split_host(host_header);
-    if (port == -2 || name.empty()) return false;
-    if (port != -1 && port != config_.port) return false;
-    const std::string bound = lower(config_.host);
+    const auto host = parse_host_header(host_header);
+    if (!host) return false;
+    if (host->port != -1 && host->port != config_.port) return false;
+    const std::string& name = host->name;
     for (const auto& h : config_.allowed_hosts)
         if (lower(h) == name) return true;
+    const std::string bound = lower(config_.host);
     if (name == bound) return true;
-    // The loopback names are the same machine whichever of them the user typed.
-    if (is_loopback(bound) && is_loopback(name)) return true;
+    // The loopback names are the same machine whichever of them the user typed; a DNS name
+    // is never one of them ("127.0.0.1.evil.example" is a rebinding page's own name).
+    if (is_loopback_name(bound) && is_loopback_name(name)) return true;
     // Bound to every interface: any address of the machine may be typed, but never a DNS
     // name other than localhost (a rebinding page brings its own name).
-    if (is_wildcard(bound)) return is_ip_literal(name) || name == "localhost";
+    if (is_wildcard(bound)) return is_ip_literal(*host) || name == "localhost";
     return false;
 }
 
@@ -85,10 +68,16 @@ bool RequestGuard::token_presented(const httplib::Request& req) const {
     if (auth.size() > 7 && lower(auth.substr(0, 7)) == "bearer " && same_secret(auth.substr(7), config_.token)) return true;
     const std::string c = cookie_value(req, "triax_token");
     if (!c.empty() && same_secret(c, config_.token)) return true;
-    return req.method == "GET" && req.has_param("token") && same_secret(req.get_param_value("token"), config_.token);
+    // In the URL only on the page's entry link, which turns it into the cookie: a URL is
+    // logged and kept in the history, so other GETs must not take it there.
+    return is_page_entry(req) && same_secret(req.get_param_value("token"), config_.token);
 }
 
 std::optional<GuardRefusal> RequestGuard::check(const httplib::Request& req) const {
+    // Two Host headers: which one a proxy or cache keys on is anyone's guess (RFC 9112 3.2
+    // says answer 400).
+    if (req.get_header_value_count("Host") > 1)
+        return GuardRefusal{400, "Bad Request", "the request carries more than one Host header"};
     if (!req.has_header("Host") || !host_allowed(req.get_header_value("Host")))
         return GuardRefusal{403, "Forbidden",
                             "Host '" + req.get_header_value("Host") +
@@ -106,7 +95,7 @@ std::optional<GuardRefusal> RequestGuard::check(const httplib::Request& req) con
 }
 
 std::string RequestGuard::token_cookie(const httplib::Request& req) const {
-    if (config_.token.empty() || !req.has_param("token") || !same_secret(req.get_param_value("token"), config_.token))
+    if (config_.token.empty() || !is_page_entry(req) || !same_secret(req.get_param_value("token"), config_.token))
         return "";
     return "triax_token=" + config_.token + "; Path=/; HttpOnly; SameSite=Strict";
 }

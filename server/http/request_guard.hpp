@@ -3,10 +3,12 @@
 // from another site must not be able to drive it:
 //  - Host must name the bound address (or localhost / an IP literal when bound to a
 //    wildcard address): a DNS-rebinding page reaches us under its own name and is refused.
+//    The header is parsed strictly (host_header.hpp); two Host headers are 400.
 //  - Origin, when a browser sends one, must be this service's own origin.
 //  - With a token (--token / TRIAX_TOKEN) every route but /health needs
 //    "Authorization: Bearer <token>" or the cookie the page gets from "/?token=<token>"
-//    (HttpOnly, SameSite=Strict: another site's requests never carry it).
+//    (HttpOnly, SameSite=Strict: another site's requests never carry it). Only that entry
+//    link ("/" or "/index.html") takes the token as a query parameter.
 // JSON endpoints additionally require Content-Type application/json (parse_body, 415): a
 // cross-site form or fetch without preflight can only send text/plain, urlencoded or
 // multipart bodies.

@@ -73,6 +73,7 @@ private:
         ++f.members;
     }
 
+public:
     // Pointer of the value being read: the path of open containers and their current member.
     std::string pointer() const {
         std::string p;
@@ -80,6 +81,7 @@ private:
         return p;
     }
 
+private:
     [[noreturn]] void fail(const std::string& why) const { throw JsonLimitError(why, pointer(), 0, false); }
 
     const JsonLimits& limits_;
@@ -98,8 +100,12 @@ json parse_bounded_json(std::string_view text, const JsonLimits& limits) {
     } catch (const json::parse_error& e) {
         throw JsonLimitError(std::string("not valid JSON (byte ") + std::to_string(e.byte) + "): " + e.what(), "",
                              e.byte, true);
-    } catch (const json::exception& e) {  // e.g. a number beyond double (1e400)
-        throw JsonLimitError(std::string("not usable JSON: ") + e.what(), "", 0, true);
+    } catch (const json::out_of_range&) {
+        // Well-formed JSON whose number is beyond a double (1e400): a bad value, named by
+        // where the parser stood (the callback has seen its key, not the value).
+        throw JsonLimitError("a number beyond the range of a double (about 1.8e308)", walker.pointer(), 0, false);
+    } catch (const json::exception&) {
+        throw JsonLimitError("not usable JSON", walker.pointer(), 0, true);
     }
 }
 

@@ -31,10 +31,13 @@ const char* packing_format_name(PackingFormat f);
 const char* packing_content_type(PackingFormat f);
 const char* packing_file_extension(PackingFormat f);  // ".json", ".txt", ".data", ".vtk"
 
-// A file that cannot become a packing: what is wrong, and where (line 0 = the whole file).
+// A file that cannot become a packing: what is wrong, and where (line 0 = the whole file;
+// `pointer`: the JSON pointer of the faulty value of a project JSON, empty when unknown).
 struct PackingParseError : std::invalid_argument {
     int line = 0;
-    PackingParseError(const std::string& what, int line_no) : std::invalid_argument(what), line(line_no) {}
+    std::string pointer;
+    PackingParseError(const std::string& what, int line_no, std::string at = {})
+        : std::invalid_argument(what), line(line_no), pointer(std::move(at)) {}
 };
 
 // ---- out ---------------------------------------------------------------------------
@@ -68,7 +71,9 @@ protocol::ImportedPacking parse_sphere_list(const std::string& text, const std::
                                             const std::optional<std::string>& units = std::nullopt);
 // The project JSON (format project): its grains (group 0) with their velocities.
 protocol::ImportedPacking packing_from_project_json(const nlohmann::json& j, const std::string& source);
-// Either, told apart by the first non-blank character ('{' = project JSON).
+// Either, told apart by the first non-blank character ('{' = project JSON). The JSON is read
+// under the limits of every JSON body (io::parse_bounded_json: depth, string length,
+// duplicate keys, numbers beyond a double), each refusal naming its pointer.
 protocol::ImportedPacking parse_packing(const std::string& text, const std::string& source,
                                         const std::optional<std::string>& units = std::nullopt);
 

@@ -1,6 +1,9 @@
 // The JSON forms of a snapshot: the page's view (lab units) and the complete project JSON
 // (SI, exact), and the project JSON read back as a snapshot or as an imported packing.
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
 
 #include "server/io/packing_formats.hpp"
 
@@ -30,8 +33,38 @@ Vec3 vec_from(const json& j, const std::string& what) {
     return Vec3(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
 }
 
+// "particles" -> "/particles"; the where-names of this file are the top-level members.
+std::string pointer_of(const std::string& where, const std::string& name) { return "/" + where + "/" + name; }
+
 const json& field(const json& obj, const std::string& name, const std::string& where) {
-    if (!obj.is_object() || !obj.contains(name)) throw PackingParseError(where + ": missing field '" + name + "'", 0);
+    if (!obj.is_object() || !obj.contains(name))
+        throw PackingParseError(where + ": missing field '" + name + "'", 0, pointer_of(where, name));
+    return obj.at(name);
+}
+
+// An optional member of an object with the type the reader needs, or a refusal naming it
+// (a null or a string where a number belongs is the sender's error, not ours).
+std::string optional_text(const json& obj, const std::string& name, const std::string& pointer) {
+    if (!obj.contains(name)) return {};
+    if (!obj.at(name).is_string()) throw PackingParseError("field " + name + " must be a string", 0, pointer);
+    return obj.at(name).get<std::string>();
+}
+double optional_number(const json& obj, const std::string& name, const std::string& pointer) {
+    if (!obj.contains(name)) return 0.0;
+    if (!obj.at(name).is_number()) throw PackingParseError("field " + name + " must be a number", 0, pointer);
+    return obj.at(name).get<double>();
+}
+long optional_integer(const json& obj, const std::string& name, const std::string& pointer) {
+    if (!obj.contains(name)) return 0;
+    const json& v = obj.at(name);
+    if (!v.is_number_integer() || (v.is_number_unsigned() && v.get<std::uint64_t>() > 0x7fffffffffffffffULL))
+        throw PackingParseError("field " + name + " must be an integer", 0, pointer);
+    return v.get<long>();
+}
+const json& optional_array(const json& obj, const std::string& name) {
+    static const json empty = json::array();
+    if (!obj.contains(name)) return empty;
+    if (!obj.at(name).is_array()) throw PackingParseError("field " + name + " must be an array", 0, "/" + name);
     return obj.at(name);
 }
 
@@ -42,16 +75,26 @@ std::vector<T> column(const json& obj, const std::string& name, const std::strin
         return {};
     }
     const json& a = obj.at(name);
-    if (!a.is_array()) throw PackingParseError(where + "." + name + " must be an array", 0);
+    const std::string at = pointer_of(where, name);
+    if (!a.is_array()) throw PackingParseError(where + "." + name + " must be an array", 0, at);
     if (a.size() != n)
         throw PackingParseError(where + "." + name + " has " + std::to_string(a.size()) + " entries; expected " +
                                     std::to_string(n),
-                                0);
+                                0, at);
     std::vector<T> out;
     out.reserve(n);
     for (std::size_t k = 0; k < n; ++k) {
         if (!a[k].is_number())
-            throw PackingParseError(where + "." + name + "[" + std::to_string(k) + "] is not a number", 0);
+            throw PackingParseError(where + "." + name + "[" + std::to_string(k) + "] is not a number", 0,
+                                    at + "/" + std::to_string(k));
+        if constexpr (std::is_integral_v<T>) {
+            // An index or a flag: an integer that fits (a double beyond int would be UB to convert).
+            const bool fits = a[k].is_number_integer() && a[k].get<double>() >= std::numeric_limits<T>::min() &&
+                              a[k].get<double>() <= std::numeric_limits<T>::max();
+            if (!fits)
+                throw PackingParseError(where + "." + name + "[" + std::to_string(k) + "] is not an integer in range",
+                                        0, at + "/" + std::to_string(k));
+        }
         out.push_back(a[k].get<T>());
     }
     return out;
@@ -206,26 +249,33 @@ json snapshot_project_json(const SpecimenSnapshot& s) {
 namespace {
 void check_project_header(const json& j) {
     if (!j.is_object()) throw PackingParseError("the project JSON must be an object", 0);
-    if (j.value("format", std::string()) != kProjectFormat)
-        throw PackingParseError("field format must be \"" + std::string(kProjectFormat) + "\" (a triax project packing)", 0);
+    if (!j.contains("format") || !j["format"].is_string() || j["format"].get<std::string>() != kProjectFormat)
+        throw PackingParseError("field format must be \"" + std::string(kProjectFormat) + "\" (a triax project packing)",
+                                0, "/format");
     if (!j.contains("units"))
-        throw PackingParseError("missing field 'units': state the unit system (\"SI\": lengths in m, forces in N)", 0);
+        throw PackingParseError("missing field 'units': state the unit system (\"SI\": lengths in m, forces in N)", 0,
+                                "/units");
     if (!j["units"].is_string() || j["units"].get<std::string>() != "SI")
-        throw PackingParseError("field units must be \"SI\" (lengths in m, forces in N); got " + j["units"].dump(), 0);
+        throw PackingParseError("field units must be \"SI\" (lengths in m, forces in N)", 0, "/units");
 }
 }  // namespace
 
 SpecimenSnapshot snapshot_from_project_json(const json& j) {
     check_project_header(j);
     SpecimenSnapshot s;
-    s.stage = j.value("stage", std::string());
-    s.step = j.value("step", 0L);
+    s.stage = optional_text(j, "stage", "/stage");
+    s.step = optional_integer(j, "step", "/step");
     for (const char* key : {"sizing_mean_radius_m", "sizing_min_radius_m"})
         if (j.contains(key) && !(j[key].is_number() && j[key].get<double>() >= 0.0 && std::isfinite(j[key].get<double>())))
-            throw PackingParseError(std::string("field ") + key + " must be a number >= 0 (m)", 0);
-    s.sizing_mean_radius_m = j.value("sizing_mean_radius_m", 0.0);
-    s.sizing_min_radius_m = j.value("sizing_min_radius_m", 0.0);
-    if (j.contains("groups")) s.group_names = j["groups"].get<std::vector<std::string>>();
+            throw PackingParseError(std::string("field ") + key + " must be a number >= 0 (m)", 0, std::string("/") + key);
+    s.sizing_mean_radius_m = optional_number(j, "sizing_mean_radius_m", "/sizing_mean_radius_m");
+    s.sizing_min_radius_m = optional_number(j, "sizing_min_radius_m", "/sizing_min_radius_m");
+    const json& groups = optional_array(j, "groups");
+    for (std::size_t k = 0; k < groups.size(); ++k) {
+        if (!groups[k].is_string()) throw PackingParseError("groups[" + std::to_string(k) + "] must be a string", 0,
+                                                            "/groups/" + std::to_string(k));
+        s.group_names.push_back(groups[k].get<std::string>());
+    }
     const json& P = field(j, "particles", "packing");
     const std::size_t n = field(P, "x_m", "particles").size();
     s.position = vec_columns(P, "x_m", "y_m", "z_m", "particles", n);
@@ -262,12 +312,25 @@ SpecimenSnapshot snapshot_from_project_json(const json& j) {
                                             std::to_string(n == 0 ? 0 : n - 1),
                                         0);
     }
-    for (const auto& p : j.value("platens", json::array()))
-        s.platens.push_back({p.value("name", std::string()), vec_from(field(p, "point_m", "platens"), "platens.point_m"),
-                             vec_from(field(p, "normal", "platens"), "platens.normal"), p.value("normal_force_N", 0.0)});
-    for (const auto& ms : j.value("measurement_spheres", json::array()))
+    const json& platens = optional_array(j, "platens");
+    for (std::size_t k = 0; k < platens.size(); ++k) {
+        const json& p = platens[k];
+        const std::string at = "/platens/" + std::to_string(k);
+        if (!p.is_object()) throw PackingParseError("platens[" + std::to_string(k) + "] must be an object", 0, at);
+        s.platens.push_back({optional_text(p, "name", at + "/name"), vec_from(field(p, "point_m", "platens"), "platens.point_m"),
+                             vec_from(field(p, "normal", "platens"), "platens.normal"),
+                             optional_number(p, "normal_force_N", at + "/normal_force_N")});
+    }
+    const json& spheres = optional_array(j, "measurement_spheres");
+    for (std::size_t k = 0; k < spheres.size(); ++k) {
+        const json& ms = spheres[k];
+        const std::string at = "/measurement_spheres/" + std::to_string(k);
+        if (!ms.is_object()) throw PackingParseError("measurement_spheres[" + std::to_string(k) + "] must be an object", 0, at);
+        if (!field(ms, "radius_m", "measurement_spheres").is_number())
+            throw PackingParseError("measurement_spheres[" + std::to_string(k) + "].radius_m must be a number", 0, at + "/radius_m");
         s.measurement_spheres.push_back({vec_from(field(ms, "center_m", "measurement_spheres"), "measurement_spheres.center_m"),
-                                         field(ms, "radius_m", "measurement_spheres").get<double>()});
+                                         ms.at("radius_m").get<double>()});
+    }
     return s;
 }
 

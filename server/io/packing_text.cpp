@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "server/io/bounded_json.hpp"
 #include "server/io/packing_formats.hpp"
 
 namespace triax::io {
@@ -268,14 +269,16 @@ protocol::ImportedPacking parse_packing(const std::string& text, const std::stri
     if (first != std::string::npos && text[first] == '{') {
         nlohmann::json j;
         try {
-            j = nlohmann::json::parse(text);
-        } catch (const nlohmann::json::parse_error& e) {
-            throw PackingParseError(source + ": not valid JSON (byte " + std::to_string(e.byte) + ")", 0);
+            j = parse_bounded_json(text);
+        } catch (const JsonLimitError& e) {
+            if (e.syntax && e.byte > 0)
+                throw PackingParseError(source + ": not valid JSON (byte " + std::to_string(e.byte) + ")", 0, e.pointer);
+            throw PackingParseError(source + ": " + e.what() + (e.pointer.empty() ? "" : " at " + e.pointer), 0, e.pointer);
         }
         try {
             return packing_from_project_json(j, source);
         } catch (const PackingParseError& e) {
-            throw PackingParseError(source + ": " + e.what(), e.line);
+            throw PackingParseError(source + ": " + e.what(), e.line, e.pointer);
         }
     }
     return parse_sphere_list(text, source, units);

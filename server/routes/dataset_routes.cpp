@@ -3,10 +3,12 @@
 // (lab_dataset_to_json), so every format reads back the same way.
 #include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
+#include "server/http/stored_document.hpp"
 #include "server/io/lab_format.hpp"
 #include "server/service.hpp"
 
 #include <algorithm>
+#include <optional>
 
 namespace triax::service {
 
@@ -102,9 +104,8 @@ void register_dataset_routes(Service& s) {
                 .at_field(e.field);
         }
         std::string name = req.has_param("name") ? req.get_param_value("name") : d.name;
-        if (invalid_utf8_at(name) != std::string::npos) throw bad_request("query parameter 'name' is not UTF-8 text");
         if (name.empty()) name = "dataset";
-        if (name.size() > 200) throw unprocessable("name is longer than 200 characters").with_limit("name length <= 200");
+        check_resource_name(name, req.has_param("name") ? "query parameter 'name'" : "the dataset name in the file");
         d.name = name;
         const auto created = utc_now();
         const auto fmt = io::lab_format_name(format);
@@ -133,22 +134,25 @@ void register_dataset_routes(Service& s) {
                              });
         }));
     });
+    // The stored readings are sent as they are stored (they are the JSON upload form
+    // already), read from the store in slices while the socket takes them: a 15 MB upload
+    // is never parsed nor held whole to be read back.
     s.route("GET", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);
-        std::string name, format, created, text;
+        std::string name, format, created;
+        std::optional<json> header;
         s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT name, format, created_at, dataset_json FROM datasets WHERE id = ?");
+            auto st = db.prepare("SELECT name, format, created_at, header_json FROM datasets WHERE id = ?");
             st.bind_all(id);
             if (!st.step()) throw not_found("dataset " + std::to_string(id) + " does not exist");
             name = st.text(0);
             format = st.text(1);
             created = st.text(2);
-            text = st.text(3);
+            if (!st.is_null(3)) header = json::parse(st.text(3));
         });
-        const auto doc = json::parse(text);  // outside the lock
-        auto out = dataset_header(id, name, format, created, header_columns(io::parse_lab_json(doc)));
-        out["data"] = doc;
-        send_json(res, out);
+        if (!header) header = header_columns(load_dataset(s, id, nullptr));  // stored before the column, not yet filled
+        send_stored_member(s.db, res, dataset_header(id, name, format, created, *header), "data",
+                           StoredValue{"datasets", "dataset_json", id});
     });
     s.route("DELETE", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);

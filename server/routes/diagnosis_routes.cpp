@@ -9,6 +9,7 @@
 #include "server/diagnoses/diagnosis_plan.hpp"
 #include "server/http/paging.hpp"
 #include "server/http/problem.hpp"
+#include "server/io/bounded_json.hpp"
 #include "server/http/sse.hpp"
 #include "server/io/diagnosis_json.hpp"
 #include "server/io/lab_format.hpp"
@@ -42,6 +43,16 @@ DiagnoseRequest read_diagnose_request(Service& s, const httplib::Request& req, b
     r.lab = load_dataset(s, r.dataset_id, nullptr);  // 404 early
     const auto body = parse_body(req);
     if (!body.is_object()) throw unprocessable("the body must be a JSON object").at_field("");
+    // A misspelt option would otherwise run with its default: refuse what is not an option.
+    // The option names are the ones diagnose_options_to_json writes.
+    const json known = io::diagnose_options_to_json({});
+    for (const auto& [key, value] : body.items())
+        if (key != "scheme" && key != "scheme_id" && !known.contains(key)) {
+            std::string names = "scheme, scheme_id";
+            for (const auto& [k, v] : known.items()) names += ", " + k;
+            throw unprocessable("unknown diagnose option '" + key + "'; the body takes " + names)
+                .at_field("/" + io::json_pointer_token(key));
+        }
     const bool inline_scheme = body.contains("scheme"), by_id = body.contains("scheme_id");
     if (inline_scheme == by_id) throw unprocessable("give exactly one of 'scheme' or 'scheme_id'").at_field("/scheme");
     if (inline_scheme) {

@@ -25,13 +25,14 @@ void register_packing_routes(Service& s) {
         std::optional<std::string> units;
         if (req.has_param("units")) units = req.get_param_value("units");
         const std::string name = req.has_param("name") ? req.get_param_value("name") : "packing";
-        if (invalid_utf8_at(name) != std::string::npos) throw bad_request("name must be UTF-8 text");
+        check_resource_name(name, "query parameter 'name'");
         protocol::ImportedPacking p;
         try {
             p = io::parse_packing(req.body, "upload", units);
         } catch (const io::PackingParseError& e) {
             auto err = unprocessable(e.what());
             if (e.line > 0) err.at(e.line, 1);
+            if (!e.pointer.empty()) err.at_field(e.pointer);
             throw err;
         }
         if (p.size() > static_cast<std::size_t>(s.config.max_particles))

@@ -4,6 +4,7 @@
 #include "server/io/scheme_json.hpp"
 #include "server/service.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -31,6 +32,16 @@ constexpr VendorFile kVendorFiles[] = {
 }  // namespace
 
 bool is_private_web_path(const std::string& path) {
+    // One spelling per resource: the prefix checks below would miss "/static/./package.json"
+    // or "//node_modules/...", which the file handler resolves to the same file. No route and
+    // no file is named with an empty segment ("//") or a dot segment ("." or "..").
+    if (path.find("//") != std::string::npos) return true;
+    for (std::size_t at = 0; at < path.size();) {
+        const auto end = std::min(path.find('/', at + 1), path.size());
+        const std::string_view segment = std::string_view(path).substr(at + 1, end - at - 1);
+        if (segment == "." || segment == "..") return true;
+        at = end;
+    }
     // The npm install tree and its manifests are served only through /vendor/.
     for (std::string_view hidden : {"/node_modules", "/package.json", "/package-lock.json"}) {
         for (std::string_view prefix : {"", "/static"}) {

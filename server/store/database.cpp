@@ -151,4 +151,28 @@ std::string utc_now() {
     return buf;
 }
 
+std::optional<Database::ValueRange> Database::read_range(const char* table, const char* column, std::int64_t rowid,
+                                                std::size_t offset, std::size_t n) {
+    sqlite3_blob* blob = nullptr;
+    const int rc = sqlite3_blob_open(db_, "main", table, column, rowid, 0, &blob);
+    if (rc != SQLITE_OK) {
+        sqlite3_blob_close(blob);  // a no-op on nullptr
+        if (rc == SQLITE_ERROR) return std::nullopt;  // no such row (or the value is not text/blob)
+        throw StoreError(std::string("cannot read ") + table + "." + column + ": " + sqlite3_errmsg(db_), rc);
+    }
+    ValueRange out;
+    out.total = static_cast<std::size_t>(sqlite3_blob_bytes(blob));
+    if (offset < out.total && n > 0) {
+        out.bytes.resize(std::min(n, out.total - offset));
+        const int read =
+            sqlite3_blob_read(blob, out.bytes.data(), static_cast<int>(out.bytes.size()), static_cast<int>(offset));
+        if (read != SQLITE_OK) {
+            sqlite3_blob_close(blob);
+            throw StoreError(std::string("cannot read ") + table + "." + column, read);
+        }
+    }
+    sqlite3_blob_close(blob);
+    return out;
+}
+
 }  // namespace triax::service

@@ -111,6 +111,18 @@ public:
     std::int64_t last_insert_id() const { return sqlite3_last_insert_rowid(db_); }
     int changes() const { return sqlite3_changes(db_); }
     int schema_version();
+    // Bytes [offset, offset + n) of the TEXT or BLOB `column` of row `rowid` of `table`
+    // (fixed names from the code, never from a request), read in place (sqlite3_blob) so a
+    // large value is never held whole; fewer bytes at its end, and the value's full size.
+    // nullopt when the row is gone. The caller holds the connection (with()); a long value
+    // is read in several calls, each under a short hold, so a writer never waits for a
+    // slow reader.
+    struct ValueRange {
+        std::string bytes;
+        std::size_t total = 0;
+    };
+    std::optional<ValueRange> read_range(const char* table, const char* column, std::int64_t rowid, std::size_t offset,
+                                         std::size_t n);
 
 private:
     void migrate(const std::filesystem::path& dir);

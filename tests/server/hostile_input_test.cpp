@@ -125,3 +125,65 @@ TEST_CASE("a JSON dataset with kind 5 or a null reading is 422 naming the pointe
     CHECK(r.body["field"] == "/summary/0/specimen");
     CHECK(srv.get("/datasets").body["datasets"].empty());
 }
+
+TEST_CASE("POST /packings reads JSON under the same limits: deep nesting, null format, 1e99921 are 422 by field",
+          "[server][hostile]") {
+    ScriptControl control;
+    TestServer srv(scripted_executor(control));
+    // 400,000 levels (the body limit of the test service is 1 MiB): refused at level 32.
+    const auto t0 = std::chrono::steady_clock::now();
+    auto r = srv.post("/packings", deep_body(400000));
+    check_problem(r, 422);
+    CHECK(r.body.value("field", "").rfind("/name/0/0/0", 0) == 0);
+    CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(1));
+    r = srv.post("/packings", std::string(R"({"format": null})"));
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/format");
+    CHECK(r.text.find("json.exception") == std::string::npos);
+    r = srv.post("/packings", std::string(R"({"format": "triax-packing", "units": "SI", "particles": {"x_m": [1e99921]}})"));
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/particles/x_m/0");
+    CHECK(r.text.find("json.exception") == std::string::npos);
+    const std::string grains = R"("particles": {"x_m": [0], "y_m": [0], "z_m": [0], "radius_m": [0.001], "group": [0], "density_kg_m3": [2650]})";
+    r = srv.post("/packings", R"({"format": "triax-packing", "units": "SI", "step": "x", )" + grains + "}");
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/step");
+    r = srv.post("/packings", R"({"format": "triax-packing", "units": "SI", "groups": [null], )" + grains + "}");
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/groups/0");
+    r = srv.post("/packings", R"({"format": "triax-packing", "units": "SI", "platens": [{"name": 5}], )" + grains + "}");
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/platens/0/name");
+    r = srv.post("/packings", std::string(R"({"format": "triax-packing", "units": "SI", "particles": {"x_m": [0], "y_m": [0], "z_m": [0], "radius_m": [0.001], "group": [1e12], "density_kg_m3": [2650]}})"));
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/particles/group/0");
+    // A valid packing is still taken.
+    CHECK(srv.post("/packings", R"({"format": "triax-packing", "units": "SI", )" + grains + "}").status == 201);
+}
+
+TEST_CASE("a number beyond a double is 422 naming its field on every JSON route", "[server][hostile]") {
+    ScriptControl control;
+    TestServer srv(scripted_executor(control));
+    auto r = srv.post("/schemes", std::string(R"({"micro": {"normal_modulus_MPa": 1e99921}})"));
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/micro/normal_modulus_MPa");
+    r = srv.post("/runs", std::string(R"({"scheme": {"loading": {"stress_levels": [0.5, -1e400]}}})"));
+    check_problem(r, 422);
+    CHECK(r.body["field"] == "/scheme/loading/stress_levels/1");
+    CHECK(r.text.find("json.exception") == std::string::npos);
+}
+
+TEST_CASE("packing names are at most 200 characters, without control characters", "[server][hostile]") {
+    ScriptControl control;
+    TestServer srv(scripted_executor(control));
+    const std::string list = "# units: mm\n0 0 0 1\n";
+    check_problem(srv.post("/packings?name=" + std::string(201, 'p'), list, "text/plain"), 422);
+    check_problem(srv.post("/packings?name=a%0Ab", list, "text/plain"), 422);
+    check_problem(srv.post("/packings?name=%FF", list, "text/plain"), 400);
+    const auto ok = srv.post("/packings?name=" + std::string(200, 'p'), list, "text/plain");
+    CHECK(ok.status == 201);
+    // 200 characters of two bytes each are 200 characters.
+    std::string greek;
+    for (int i = 0; i < 200; ++i) greek += "%CE%B1";
+    CHECK(srv.post("/packings?name=" + greek, list, "text/plain").status == 201);
+}

@@ -173,6 +173,38 @@ public:
         return out;
     }
 
+    // A request with exactly the header lines given (none added but Content-Length and
+    // Connection: close), over a raw socket; the answer's status and raw text.
+    std::pair<int, std::string> raw(const std::string& method, const std::string& path,
+                                    const std::vector<std::string>& lines, const std::string& body = "") const {
+        const int fd = socket(AF_INET, SOCK_STREAM, 0);
+        REQUIRE(fd >= 0);
+        timeval tv{10, 0};
+        setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(static_cast<std::uint16_t>(port_));
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+        std::string request = method + " " + path + " HTTP/1.1\r\n";
+        for (const auto& l : lines) request += l + "\r\n";
+        request += "Content-Length: " + std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
+        send(fd, request.data(), request.size(), MSG_NOSIGNAL);
+        std::string answer;
+        char buf[4096];
+        for (ssize_t n; (n = recv(fd, buf, sizeof buf, 0)) > 0;) answer.append(buf, static_cast<std::size_t>(n));
+        close(fd);
+        INFO(method << " " << path << " answered: " << answer);
+        REQUIRE(answer.rfind("HTTP/1.1 ", 0) == 0);
+        return {std::stoi(answer.substr(9, 3)), answer};
+    }
+    // The status of raw(...) with "Host: 127.0.0.1:PORT" first.
+    int raw_status(const std::string& method, const std::string& path, std::vector<std::string> lines = {},
+                   const std::string& body = "") const {
+        lines.insert(lines.begin(), "Host: 127.0.0.1:" + std::to_string(port_));
+        return raw(method, path, lines, body).first;
+    }
+
     struct Event {
         long long id = 0;
         std::string type;
