@@ -80,9 +80,17 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     const LabMacro macro = lab_macro(lab);
     double mean_q = 0.0;
     for (const auto& sh : macro.shear) mean_q += sh.q_peak_pa / static_cast<double>(macro.shear.size());
-    // Cohesionless start unless the lab's peak envelope has an intercept worth 5 % of q.
-    const bool cohesive = macro.shear.empty() ? scheme_bond > 0.0 : macro.peak_cohesion_pa > 0.05 * mean_q;
-    bond_strength_nominal_pa_ = cohesive ? std::min(scheme_bond > 0.0 ? scheme_bond : 100.0e3, bond_strength_max_pa_) : 0.0;
+    // Bonds only where the lab's own envelope shows cohesion: an intercept c' of its peak
+    // Mohr-Coulomb envelope across its sigma3 values worth 5 % of q (one pressure: the
+    // envelope runs through the origin). Otherwise the bond strength is held at 0, so that
+    // cohesion the lab does not show cannot stand in for a missing strength (on a
+    // cohesionless outside material a free bond strength took 85-457 kPa and absorbed the
+    // strength rolling resistance brings: docs/diagnosis.md section 6). Without a lab shear
+    // curve the envelope is unknown and the scheme's bonds decide.
+    lab_cohesion_pa_ = macro.peak_cohesion_pa;
+    bonds_calibrated_ = macro.shear.empty() ? scheme_bond > 0.0 : macro.peak_cohesion_pa > 0.05 * mean_q;
+    bond_strength_nominal_pa_ =
+        bonds_calibrated_ ? std::min(scheme_bond > 0.0 ? scheme_bond : 100.0e3, bond_strength_max_pa_) : 0.0;
     // Dense start when the lab's curves peak early and soften (q at the last reading under
     // 85 % of the peak, reached before half the test), else loose.
     int softening = 0;
@@ -140,7 +148,7 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
 bool DemForwardModel::includes(Effect e) const {
     // Only the artefacts and moisture bonding can be in the base: the others were taken out.
     switch (e) {
-        case Effect::MoistureBonding: return true;
+        case Effect::MoistureBonding: return bonds_calibrated_;
         default: return false;
     }
 }
@@ -148,6 +156,10 @@ bool DemForwardModel::includes(Effect e) const {
 std::string DemForwardModel::not_offered_reason(Effect e) const {
     switch (e) {
         case Effect::MoistureBonding:
+            if (!bonds_calibrated_)
+                return "the lab's peak Mohr-Coulomb envelope shows no cohesion (c' = " +
+                       std::to_string(static_cast<long>(std::lround(lab_cohesion_pa_ / 1e3))) +
+                       " kPa, under 5 % of q): no bonds to add";
             return "the base calibrates the bond strength from 0 (cohesionless) upwards, which is what moisture "
                    "bonding would add";
         case Effect::ContactCreepViscosity:
@@ -165,9 +177,13 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
         {"membrane_stiffness", "N/m", 0.0,
          "no membrane in the base: sigma3 acts on the outermost grains (a bonded lattice adds confinement); a lab "
          "membrane's stiffness is the membrane-compliance artefact"},
-        {"bond_friction", "-", m.bond_friction, "the bonds' Mohr-Coulomb friction (strength is calibrated)"},
+        {"bond_friction", "-", m.bond_friction, "the bonds' Mohr-Coulomb friction"},
         {"max_particles", "-", static_cast<double>(base_.max_particles), "the calibration specimen's grain cap (0: the scheme's gradation)"},
     };
+    if (!bonds_calibrated_)
+        h.push_back({"bond_strength", "Pa", 0.0,
+                     "cohesionless: the lab's peak Mohr-Coulomb envelope has no cohesion intercept worth 5 % of q (c' = " +
+                         std::to_string(static_cast<long>(std::lround(lab_cohesion_pa_ / 1e3))) + " kPa)"});
     h.push_back({"generation_porosity", "-", kDiagnosisGenerationPorosity,
                  "the packing is grown loose; the compaction friction gives it its density"});
     if (relative_density_)
@@ -198,9 +214,9 @@ std::vector<ParameterSpec> DemForwardModel::base_parameters() const {
         {"contact_normal_modulus", "Pa", 0.1 * m.normal_modulus_pa, 10.0 * m.normal_modulus_pa, m.normal_modulus_pa, true},
         // Friction of mineral contacts and of rough, angular grains that a sphere must mimic.
         {"friction", "-", 0.05, 1.0, std::clamp(m.friction, 0.05, 1.0), false},
-        // Cohesion from cementation or suction: from none up.
-        {"bond_strength", "Pa", 0.0, bond_strength_max_pa_, bond_strength_nominal_pa_, false, true},
     };
+    // Cohesion from cementation or suction, from none up: only where the lab shows it.
+    if (bonds_calibrated_) specs.push_back({"bond_strength", "Pa", 0.0, bond_strength_max_pa_, bond_strength_nominal_pa_, false, true});
     // The packing's density by the friction it is consolidated at: frictionless packs dense
     // (an early peak, dilation), the grains' own friction leaves it loose (contraction,
     // hardening to late strains, as a weak fill does; docs/diagnosis.md section 6). Held
@@ -258,7 +274,7 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
     s.micro.normal_modulus_pa = point.base[at++];
     s.micro.shear_modulus_pa = ratio * s.micro.normal_modulus_pa;
     s.micro.friction = point.base[at++];
-    s.micro.bond_normal_strength_pa = s.micro.bond_shear_strength_pa = std::max(0.0, point.base[at++]);
+    s.micro.bond_normal_strength_pa = s.micro.bond_shear_strength_pa = bonds_calibrated_ ? std::max(0.0, point.base[at++]) : 0.0;
     if (!relative_density_) s.specimen.compaction_friction_ratio = point.base[at++];
     for (const auto& [e, v] : point.effects) {
         if (v.empty()) throw std::invalid_argument("effect '" + std::string(effect_name(e)) + "' given no parameter");

@@ -133,6 +133,10 @@ private:
     bool creep_in_lab_ = false;
     double bond_strength_max_pa_ = 0.0;
     double bond_strength_nominal_pa_ = 0.0;
+    // The bond strength is a base parameter only when the lab shows cohesion (its peak
+    // Mohr-Coulomb envelope has an intercept above 5 % of q); otherwise it is held at 0.
+    bool bonds_calibrated_ = false;
+    double lab_cohesion_pa_ = 0.0;  // the lab's peak envelope intercept c'
 };
 
 }  // namespace triax::diagnose

@@ -103,6 +103,10 @@ struct SelectionStep {
     double nrmse_after = 0.0;    // with the effect added
     double delta_bic = 0.0;      // BIC(with) - BIC(without), n_eff of the step
     double n_effective = 0.0;
+    // A test artefact's gain in pooled NRMSE on each packing (the calibration's first, then
+    // the noise floor's), the final model with and without it each at its own point; empty
+    // for a physical effect's step (its candidate carries them) or with one packing.
+    std::vector<double> paired_gains;
 };
 
 // Why a catalog effect was not tested.

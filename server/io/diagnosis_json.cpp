@@ -162,7 +162,8 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
     json steps = json::array();
     for (const auto& s : r.steps)
         steps.push_back({{"step", s.step}, {"added", s.added}, {"nrmse_before", s.nrmse_before},
-                         {"nrmse_after", s.nrmse_after}, {"delta_bic", s.delta_bic}, {"n_effective", s.n_effective}});
+                         {"nrmse_after", s.nrmse_after}, {"delta_bic", s.delta_bic}, {"n_effective", s.n_effective},
+                         {"paired_gains", s.paired_gains}});
     json held = json::array();
     for (const auto& h : r.held_fixed) held.push_back({{"name", h.name}, {"unit", h.unit}, {"value", h.value}, {"why", h.why}});
     json untested = json::array();
@@ -246,7 +247,8 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
     for (const auto& c : j.value("candidates", json::array())) r.candidates.push_back(candidate_from_json(c));
     for (const auto& s : j.value("steps", json::array()))
         r.steps.push_back({s.at("step").get<int>(), s.value("added", std::string{}), s.value("nrmse_before", 0.0),
-                           s.value("nrmse_after", 0.0), s.value("delta_bic", 0.0), s.value("n_effective", 0.0)});
+                           s.value("nrmse_after", 0.0), s.value("delta_bic", 0.0), s.value("n_effective", 0.0),
+                           s.value("paired_gains", std::vector<double>{})});
     r.n_readings = j.value("n_readings", 0.0);
     r.n_effective = j.value("n_effective", 0.0);
     r.runs_used = j.value("runs_used", 0);

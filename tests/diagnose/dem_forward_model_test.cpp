@@ -146,7 +146,15 @@ TEST_CASE("DEM forward model: grain breakage is crushing and offered on shear da
     const DemForwardModel far(base, to_12, 1, 0);
     const TestScheme s12 = far.scheme_for({nominal(far), {}}, 100e3);
     CHECK(s12.loading.stop_at_softening);  // scheme_for leaves the loading; simulate() sets it
-    CHECK(far.base_parameters()[2].nominal == 0.0);  // one pressure: no cohesion intercept claimed
+    // One pressure: the envelope runs through the origin, so no cohesion is claimed and the
+    // bond strength is held at 0, not calibrated.
+    const auto far_specs = far.base_parameters();
+    CHECK(std::none_of(far_specs.begin(), far_specs.end(), [](const ParameterSpec& p) { return p.name == "bond_strength"; }));
+    const auto far_held = far.held_fixed();
+    CHECK(std::any_of(far_held.begin(), far_held.end(), [](const HeldParameter& h) { return h.name == "bond_strength" && h.value == 0.0; }));
+    CHECK_FALSE(far.includes(Effect::MoistureBonding));
+    CHECK_THAT(far.not_offered_reason(Effect::MoistureBonding), Catch::Contains("no cohesion"));
+    CHECK(s12.micro.bond_normal_strength_pa == 0.0);
 
     // With creep curves: a second parameter, extra bond damage in the creep holds
     // (bond_corrosion_scale = 1 + e), off at 0 too.
@@ -167,14 +175,14 @@ TEST_CASE("DEM forward model: a lab's relative density holds the packing density
     CHECK(compaction_friction_for(1.0) == 0.0);  // densest: frictionless
     const DemForwardModel stated(base, shear_conditions({100e3}), 1, 0, nullptr, 1, 0.5);
     const auto specs = stated.base_parameters();
-    REQUIRE(specs.size() == 3);  // modulus, friction, bond strength: the density is the lab's
+    REQUIRE(specs.size() == 2);  // modulus, friction: the density is the lab's, no cohesion at one pressure
     CHECK(std::none_of(specs.begin(), specs.end(), [](const ParameterSpec& p) { return p.name == "compaction_friction_ratio"; }));
     const auto held = stated.held_fixed();
     const auto h = std::find_if(held.begin(), held.end(), [](const HeldParameter& p) { return p.name == "compaction_friction_ratio"; });
     REQUIRE(h != held.end());
     CHECK(h->value == Approx(0.5));
     CHECK_THAT(h->why, Catch::Contains("relative density"));
-    const TestScheme s = stated.scheme_for({{base.micro.normal_modulus_pa, 0.5, 0.0}, {}}, 100e3);
+    const TestScheme s = stated.scheme_for({{base.micro.normal_modulus_pa, 0.5}, {}}, 100e3);
     CHECK(s.specimen.compaction_friction_ratio == Approx(0.5));
     CHECK_THROWS_WITH(DemForwardModel(base, shear_conditions({100e3}), 1, 0, nullptr, 1, 1.2),
                       Catch::Contains("relative density"));
@@ -191,11 +199,11 @@ TEST_CASE("DEM forward model: the loose base contracts more in shear than the de
     const DemForwardModel model(base, lab, 1, 200);
     std::vector<double> v;
     for (const auto& s : model.base_parameters()) v.push_back(s.nominal);
-    REQUIRE(v.size() == 4);
+    REQUIRE(v.size() == 3);  // modulus, friction, compaction: one pressure shows no cohesion
     v[1] = 0.3;
     auto largest_contraction = [&](double compaction_friction_ratio, std::uint64_t seed) {
         std::vector<double> p = v;
-        p[3] = compaction_friction_ratio;
+        p[2] = compaction_friction_ratio;
         const LabDataset out = model.simulate({p, {}}, seed);
         REQUIRE(out.curves.size() == 1);
         const auto& ev = out.curves[0].volumetric_strain;
