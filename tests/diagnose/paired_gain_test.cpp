@@ -63,9 +63,10 @@ private:
 const std::vector<double> kTruth{30e6, 36.0, 10.0, 8e-4};
 
 DiagnosisReport diagnose_scattered(const std::vector<std::pair<Effect, std::vector<double>>>& hidden, double share,
-                                   double offset_pa) {
+                                   double offset_pa, double seating_strain = SyntheticLabOptions{}.seating_strain) {
     const PackingScatterModel model(share, offset_pa);
     SyntheticLabOptions lo;
+    lo.seating_strain = seating_strain;
     lo.seed = 97;  // the lab's packing: none of the diagnosis's (seed, seed + 1, seed + 2)
     const LabDataset lab = make_synthetic_lab(model, {kTruth, hidden}, lo);
     DiagnoseOptions opt = analytic_method_options();
@@ -108,4 +109,17 @@ TEST_CASE("paired gain: a control is not given an effect fitted to its packing's
     CHECK(r.chosen_effect != "moisture_bonding");
     CHECK(r.chosen_effect != "rolling_resistance");
     CHECK(r.chosen_effect != "bond_degradation");
+}
+
+// The same pairing for a test artefact (settle_artefacts): a 0.5 % seating offset read into
+// the lab's strains is named from its gain on every packing, and the step carries the
+// per-packing gains.
+TEST_CASE("paired gain: a seating offset under packing scatter is named as the artefact", "[diagnose][loop][paired]") {
+    const auto r = diagnose_scattered({}, 0.08, 0.0, 0.005);
+    INFO(describe(r));
+    CHECK(r.chosen_effect == "seating_error");
+    auto step = std::find_if(r.steps.begin(), r.steps.end(), [](auto& s) { return s.added == "seating_error"; });
+    REQUIRE(step != r.steps.end());
+    CHECK(step->paired_gains.size() == 3);
+    for (double g : step->paired_gains) CHECK(g > 0.0);
 }
