@@ -1,5 +1,6 @@
 #!/bin/sh
 # Outside suite: the YADE runs of bench/outside/cases.json, one after another, niced
+# (NICE, default 19)
 # (bench/outside/README.md). Writes bench/outside/raw/ and then the datasets (make_cases.py).
 #   bench/outside/generate.sh [run names...]   (default: all, in the order below)
 # The creep runs load the consolidated dense 100 kPa state, so they wait for dense_100.
@@ -10,12 +11,15 @@ STATE=$RAW/state
 mkdir -p "$RAW" "$STATE"
 one() {  # name sigma3 json-extra
     name=$1; s3=$2; extra=$3
-    save=""
-    [ "$name" = dense ] && save=$STATE/dense_${s3}kPa.yade.gz
+    # Every consolidated state is kept: a shear run again (a change of its recipe) starts
+    # from it; the creep runs start from dense 100 kPa's.
+    save=$STATE/${name}_${s3}kPa.yade.gz
+    case $name in creep_*) save="" ;; esac
+    [ -f "$save" ] && extra="$extra,\"state\":\"$save\"" && save=""
     echo "$(date -u +%T) start $name $s3" >&2
     rc=0
     SAVE_STATE=$save OUT_DIR=$RAW OUT_CFG="{\"case\":\"$name\",\"sigma3_kPa\":$s3$extra}" \
-        nice -n 19 yade -n -x yade_triax.py > "$RAW/${name}_${s3}kPa.log" 2>&1 || rc=$?
+        nice -n "${NICE:-19}" yade -n -x yade_triax.py > "$RAW/${name}_${s3}kPa.log" 2>&1 || rc=$?
     echo "$(date -u +%T) done $name $s3 rc=$rc" >&2   # a failed run does not stop the list
 }
 run() {

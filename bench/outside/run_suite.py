@@ -3,12 +3,12 @@
 a triaxd, runs the diagnosis with the default options and the preset B scheme
 ({"scheme": {"preset": "B"}}, as the issue's users did), waits, and prints one table.
 
-  nice -n 19 python3 bench/outside/run_suite.py [--url http://127.0.0.1:8080]
+  python3 bench/outside/run_suite.py [--url http://127.0.0.1:8080] [--nice 19]
         [--triaxd build/server/triaxd] [--cases plain_dense,seating] [--analytic]
         [--out bench/outside/results.json]
 
 Without --url it starts its own triaxd on 127.0.0.1 (a free port, a temporary data dir)
-under nice -n 19 and stops it at the end. Diagnoses run one after another (each uses the
+under nice -n NICE (19) and stops it at the end. Diagnoses run one after another (each uses the
 service's default concurrency, 2 engine threads). --analytic adds the analytic stand-in
 row (build/bench/diagnose_outside_data case=plain, the bench's own options, not the
 service's). Results are appended to --out as they finish, so a long suite can be stopped
@@ -38,10 +38,10 @@ def free_port():
         return s.getsockname()[1]
 
 
-def start_triaxd(binary):
+def start_triaxd(binary, nice):
     port = free_port()
     data_dir = tempfile.mkdtemp(prefix="outside_suite_")
-    proc = subprocess.Popen(["nice", "-n", "19", binary, "--host", "127.0.0.1", "--port", str(port),
+    proc = subprocess.Popen(["nice", "-n", str(nice), binary, "--host", "127.0.0.1", "--port", str(port),
                              "--data-dir", data_dir, "--web-dir", os.path.join(ROOT, "web"),
                              "--schema-dir", os.path.join(ROOT, "schema")],
                             stdout=open(os.path.join(data_dir, "triaxd.log"), "w"), stderr=subprocess.STDOUT)
@@ -90,7 +90,8 @@ def run_case(url, case, body):
             "nrmse_after": rep.get("nrmse_after"), "tolerance": noise.get("tolerance_nrmse"),
             "runs": rep.get("runs_used"), "failed_runs": rep.get("failed_runs"),
             "unreached_after": rep.get("unreached_after"), "wall_s": wall, "diagnosis_id": dg["id"],
-            "parameters": rep.get("parameters")}
+            "parameters": rep.get("parameters"), "plan_runs_at_most": plan.get("model_runs_at_most"),
+            "plan_minutes": plan.get("minutes_estimate"), "report": rep}
 
 
 def analytic_row():
@@ -129,6 +130,7 @@ def main():
     ap.add_argument("--cases", default="")
     ap.add_argument("--analytic", action="store_true")
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
+    ap.add_argument("--nice", type=int, default=19, help="niceness of the triaxd it starts")
     a = ap.parse_args()
     cases = json.load(open(os.path.join(HERE, "cases.json")))["cases"]
     if a.cases:
@@ -140,7 +142,7 @@ def main():
     proc = None
     url = a.url
     if not url:
-        proc, url, data_dir = start_triaxd(a.triaxd)
+        proc, url, data_dir = start_triaxd(a.triaxd, a.nice)
         print("triaxd at %s, data in %s" % (url, data_dir), flush=True)
     body = {"scheme": {"preset": "B"}}
     rows = []
