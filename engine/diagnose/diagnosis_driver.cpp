@@ -7,6 +7,7 @@
 #include <set>
 
 #include "engine/diagnose/model_selection.hpp"
+#include "engine/diagnose/remaining_misfit.hpp"
 
 namespace triax::diagnose {
 
@@ -331,34 +332,9 @@ void DiagnosisDriver::report(const Fit& final_fit, const Fit& base_source) {
         if (!is_test_artefact(e) || !below) rep_.effects.push_back(name);
     }
     // The outcome: is what remains within what a right model on another packing leaves?
-    const double tol = rep_.noise.tolerance_nrmse;
-    const double pooled_limit = std::max(kUnexplainedFactor * tol, kUnexplainedFloor);
-    const double phase_limit = 2.0 * pooled_limit;
-    rep_.worst_remaining = {};
-    for (const auto& e : rep_.error_after)
-        if (e.phase != "all" && e.n >= 5 && e.nrmse > rep_.worst_remaining.nrmse) rep_.worst_remaining = e;
-    // Each curve against its own packing scatter: a curve off beyond what another packing
-    // gives it, and by more than kUnexplainedFloor of its range, is not diluted by the
-    // curves that fit (creep stages outnumber shear curves in readings).
-    // A creep pressure's instant series has one reading per stage (usually 4): it is held
-    // to its limit from 3 readings, so a loading response off by several times the lab's is
-    // not hidden behind the creep curves that fit.
-    PhaseError worst_curve;  // the curve furthest beyond its own limit
-    for (const auto& e : rep_.error_after) {
-        const int min_readings = e.curve.rfind("instant", 0) == 0 ? 3 : 5;
-        if (e.phase != "all" || e.n < min_readings) continue;
-        double s_c = 0.0;
-        for (const auto& [label, v] : rep_.noise.model_nrmse_per_curve)
-            if (label == e.curve) s_c = v;
-        const double tol_c = std::sqrt(2.0 * s_c * s_c + rep_.noise.lab_nrmse * rep_.noise.lab_nrmse);
-        if (e.nrmse > std::max(kUnexplainedFactor * tol_c, kUnexplainedFloor) && e.nrmse > worst_curve.nrmse)
-            worst_curve = e;
-    }
-    const bool curve_beyond = worst_curve.n > 0;
-    // The verdict names where it remains: the worst phase if it is beyond its limit, else the
-    // curve.
-    if (curve_beyond && rep_.worst_remaining.nrmse <= phase_limit) rep_.worst_remaining = worst_curve;
-    const bool unexplained = rep_.nrmse_after > pooled_limit || rep_.worst_remaining.nrmse > phase_limit || curve_beyond;
+    const RemainingMisfit remaining = judge_remaining(rep_.error_after, rep_.nrmse_after, rep_.noise);
+    rep_.worst_remaining = remaining.where;
+    const bool unexplained = remaining.unexplained;
     if (unexplained) rep_.outcome = Outcome::Unexplained;
     else if (!rep_.effects.empty()) rep_.outcome = Outcome::EffectFound;
     else rep_.outcome = Outcome::NoEffectNeeded;
