@@ -24,7 +24,9 @@ LabCurve shear_curve(double confining_kpa, double last_strain) {
     for (int i = 1; i <= 10; ++i) {
         const double e = last_strain * i / 10.0;
         c.axial_strain.push_back(e);
-        c.deviator_pa.push_back(confining_kpa * 1e3 * 2.0 * (1.0 - std::exp(-e / 0.01)));
+        // A cohesive fill: peak q = 2 sigma3 + 100 kPa, an envelope intercept c' of 29 kPa,
+        // so the base calibrates its bonds (held at 0 where the lab shows no cohesion).
+        c.deviator_pa.push_back((confining_kpa * 1e3 * 2.0 + 100e3) * (1.0 - std::exp(-e / 0.01)));
     }
     return c;
 }
