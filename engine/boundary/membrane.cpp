@@ -6,18 +6,27 @@ namespace triax::boundary {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+
+// Touching neighbours around the ring and along the axis (spacing 2 r).
+int ring_count(double specimen_radius_m, double r) {
+    return std::max(8, static_cast<int>(std::round(kPi / std::asin(std::min(1.0, r / (specimen_radius_m + r))))));
+}
+int row_count(double height_m, double r) { return std::max(3, static_cast<int>(std::floor(height_m / (2.0 * r)))); }
+}  // namespace
+
+int Membrane::lattice_count(double specimen_radius_m, double height_m, double particle_radius_m) {
+    return ring_count(specimen_radius_m, particle_radius_m) * row_count(height_m, particle_radius_m);
 }
 
 Membrane::Membrane(World& world, double specimen_radius_m, double height_m, double particle_radius_m, double density,
-                   int group)
+                   int group, double centre_z_m)
     : r_(particle_radius_m) {
     if (!(particle_radius_m > 0.0)) throw InputError("membrane: particle radius must be > 0");
     const double rc = specimen_radius_m + r_;
-    // Touching neighbours around the ring and along the axis (spacing 2 r).
-    n_theta_ = std::max(8, static_cast<int>(std::round(kPi / std::asin(std::min(1.0, r_ / rc)))));
-    n_z_ = std::max(3, static_cast<int>(std::floor(height_m / (2.0 * r_))));
+    n_theta_ = ring_count(specimen_radius_m, r_);
+    n_z_ = row_count(height_m, r_);
     dz_ = (height_m - 2.0 * r_) / (n_z_ - 1);
-    z0_ = -0.5 * height_m + r_;
+    z0_ = centre_z_m - 0.5 * height_m + r_;
     first_ = static_cast<int>(world.particle_count());
     for (int iz = 0; iz < n_z_; ++iz) {
         for (int it = 0; it < n_theta_; ++it) {
@@ -36,6 +45,15 @@ void Membrane::bond(World& world, double strength_n) {
     const double diag = std::hypot(0.5 * dth, dz_);
     const double tol = std::max(dth, diag) - 2.0 * r_ + 0.05 * r_;
     world.bond_contacts(p.group[first_], p.group[first_], std::max(0.0, tol), strength_n, strength_n);
+}
+
+void Membrane::restore(World& world, const std::vector<Vec3>& positions) const {
+    if (static_cast<int>(positions.size()) != count())
+        throw InputError("membrane: " + std::to_string(positions.size()) + " positions for a lattice of " +
+                         std::to_string(count()) + " spheres");
+    auto& p = world.particles();
+    for (int k = 0; k < count(); ++k) p.position[first_ + k] = positions[k];
+    world.invalidate_neighbors();
 }
 
 double Membrane::apply_pressure(World& world, double pressure_pa) const {

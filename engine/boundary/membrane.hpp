@@ -37,12 +37,21 @@ inline double automatic_membrane_radius(double grain_r_min_m, double grain_r_mea
 class Membrane {
 public:
     // Adds the spheres to `world` in group `group`. The inner envelope of the membrane
-    // (centres minus r) is at radius specimen_radius_m; rows span the specimen height.
+    // (centres minus r) is at radius specimen_radius_m; rows span the specimen height,
+    // centred at z = centre_z_m (an imported specimen's platens need not be symmetric).
     Membrane(World& world, double specimen_radius_m, double height_m, double particle_radius_m, double density,
-             int group);
+             int group, double centre_z_m = 0.0);
+
+    // The number of spheres of the lattice the constructor builds for these dimensions.
+    static int lattice_count(double specimen_radius_m, double height_m, double particle_radius_m);
 
     // Installs the lattice bonds (call once, after the spheres are placed).
     void bond(World& world, double strength_n);
+
+    // Moves the spheres to the positions of an exported state of this lattice (m, in
+    // index order; count() of them), after bond(): the bonds keep the lattice's rest
+    // lengths, so a stretched membrane carries on stretched. Throws InputError on a wrong count.
+    void restore(World& world, const std::vector<Vec3>& positions) const;
 
     // Sets the external force of each membrane sphere from the pressure (Pa) on the
     // current geometry. Returns the total radial force magnitude applied (N).

@@ -57,6 +57,9 @@ DiagnosisPlan plan_diagnosis(const LabDataset& lab, const ForwardModel& model, c
     DiagnosisDriver driver(lab, model, options, silent, batch);
     DiagnosisPlan p;
     p.model_runs = driver.planned_runs();
+    const int k = static_cast<int>(model.base_parameters().size());
+    p.model_runs_low =
+        options.budget_runs + std::max(0, options.noise_seeds - 1) + (options.finite_difference_uncertainty ? k : 0);
     std::vector<double> pressures;
     for (const auto& c : lab.curves)
         if (std::none_of(pressures.begin(), pressures.end(),

@@ -213,10 +213,15 @@ DiagnosisReport run_diagnosis(const LabDataset& lab, const ForwardModel& model, 
                               DiagnoseObserver& observer, SimulationBatch& batch);
 
 // What a diagnosis will cost before it starts: model runs at most (design, refinement,
-// candidates, noise floor, uncertainty) and engine runs per model run (one per confining
-// pressure).
+// candidates, noise floor, uncertainty), at least, and engine runs per model run (one per
+// confining pressure).
 struct DiagnosisPlan {
     int model_runs = 0;
+    // What every diagnosis runs whatever the residual shows: its calibration budget, the
+    // noise floor's other packings and the base model's finite-difference uncertainty (k
+    // runs, k = base parameters): budget_runs + (noise_seeds - 1) + (fd uncertainty ? k : 0).
+    // The effect search (signatures, candidate fits) comes on top of it.
+    int model_runs_low = 0;
     int engine_runs_per_model_run = 1;
 };
 DiagnosisPlan plan_diagnosis(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& options);

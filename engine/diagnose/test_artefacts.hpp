@@ -10,7 +10,7 @@
 // the coordinate translation, so they do not see it.
 //
 // Membrane compliance, parameter K_m [Pa]: the membrane carries hoop tension, so the
-// measured deviator is the soil's plus K_m * eps_a (ASTM D4767 form K_m = 4 E_m t_m / D);
+// measured deviator is the soil's plus K_m * eps_a (K_m = 4 E_m t_m / D, protocol/membrane_compliance.hpp);
 // the same in Pa at every confining pressure, hence relatively larger at low sigma3.
 #include <vector>
 

@@ -41,7 +41,8 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
         throw InputError("packing: " + std::to_string(n) + " grains but " + std::to_string(p.mass.size()) + " masses and " +
                          std::to_string(p.inertia.size()) + " moments of inertia (give both for every grain, or neither)");
     const double R = 0.5 * scheme.specimen.diameter_m, H = scheme.specimen.height_m;
-    double r_max = 0.0;
+    const double R_out = (1.0 + tol.extent) * R, Z_out = (1.0 + tol.extent) * 0.5 * H;
+    double r_max = 0.0, reach = 0.0, lo = 1e300, hi = -1e300;
     for (std::size_t q = 0; q < n; ++q) {
         const Vec3& x = p.position[q];
         const double r = p.radius[q];
@@ -51,18 +52,30 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
             throw InputError(where(p, q) + ": mass_kg must be positive and finite");
         if (q < p.inertia.size() && !(std::isfinite(p.inertia[q]) && p.inertia[q] > 0.0))
             throw InputError(where(p, q) + ": inertia_kg_m2 must be positive and finite");
-        const double slack = tol.outside * r;
+        // The packing's own extent is the specimen (packing_extent); the scheme's only
+        // bounds it, by the deformation a test can give it.
         const double rho = std::hypot(x.x(), x.y());
-        // Radially the boundary is the membrane: a grain may sit in the gap between its
-        // spheres (generated specimens do), but its centre must be inside the specimen.
-        if (rho > R)
-            throw InputError(where(p, q) + ": grain outside the specimen: its centre is at radius " + mm(rho) +
-                             " > specimen radius " + mm(R) + " (specimen.diameter_mm; axis z through the origin)");
-        if (x.z() - r < -0.5 * H - slack || x.z() + r > 0.5 * H + slack)
+        if (rho + r > R_out)
+            throw InputError(where(p, q) + ": grain outside the specimen: it reaches radius " + mm(rho + r) +
+                             ", more than " + pct(tol.extent) + " beyond the specimen radius " + mm(R) +
+                             " (specimen.diameter_mm; axis z through the origin)");
+        if (x.z() - r < -Z_out || x.z() + r > Z_out)
             throw InputError(where(p, q) + ": grain outside the specimen: z from " + mm(x.z() - r) + " to " +
-                             mm(x.z() + r) + " leaves [" + mm(-0.5 * H) + ", " + mm(0.5 * H) +
-                             "] (specimen.height_mm; centred at the origin)");
+                             mm(x.z() + r) + " leaves [" + mm(-Z_out) + ", " + mm(Z_out) + "], the height " + mm(H) +
+                             " + " + pct(tol.extent) + " (specimen.height_mm; centred at the origin)");
         r_max = std::max(r_max, r);
+        reach = std::max(reach, rho + r);
+        lo = std::min(lo, x.z() - r);
+        hi = std::max(hi, x.z() + r);
+    }
+    const std::string src = p.source.empty() ? std::string("packing") : p.source;
+    if (!p.platen_z_m.empty()) {
+        if (p.platen_z_m.size() != 2 || !std::isfinite(p.platen_z_m[0]) || !std::isfinite(p.platen_z_m[1]) ||
+            !(p.platen_z_m[0] < p.platen_z_m[1]) || p.platen_z_m[0] < -Z_out || p.platen_z_m[1] > Z_out)
+            throw InputError(src + ": the platens' heights must be two finite numbers, bottom below top, within [" +
+                             mm(-Z_out) + ", " + mm(Z_out) + "]");
+        lo = p.platen_z_m[0];
+        hi = p.platen_z_m[1];
     }
     // Pairs through a uniform grid of cells 2 r_max wide: each grain meets the 27 cells around it.
     const double cell = 2.0 * r_max;
@@ -92,6 +105,30 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
                     }
                 }
     }
+    // A specimen much smaller than the scheme's: metres read as millimetres, or the wrong scheme.
+    if (hi - lo < (1.0 - tol.extent) * H)
+        throw InputError(src + ": the grains span " + mm(hi - lo) + " in z, less than " + pct(1.0 - tol.extent) +
+                         " of the specimen height " + mm(H) + " (specimen.height_mm; is the unit right?)");
+    if (reach < (1.0 - tol.extent) * R)
+        throw InputError(src + ": the grains span a diameter of " + mm(2.0 * reach) + ", less than " +
+                         pct(1.0 - tol.extent) + " of the specimen diameter " + mm(2.0 * R) +
+                         " (specimen.diameter_mm; is the unit right?)");
+}
+
+PackingExtent packing_extent(const ImportedPacking& p) {
+    PackingExtent e;
+    double reach = 0.0, lo = 1e300, hi = -1e300;
+    for (std::size_t q = 0; q < p.size(); ++q) {
+        const Vec3& x = p.position[q];
+        reach = std::max(reach, std::hypot(x.x(), x.y()) + p.radius[q]);
+        lo = std::min(lo, x.z() - p.radius[q]);
+        hi = std::max(hi, x.z() + p.radius[q]);
+    }
+    const bool named = p.platen_z_m.size() == 2;
+    e.bottom_z_m = named ? p.platen_z_m[0] : lo;
+    e.top_z_m = named ? p.platen_z_m[1] : hi;
+    e.radius_m = reach;
+    return e;
 }
 
 }  // namespace triax::protocol

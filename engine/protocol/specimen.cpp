@@ -100,17 +100,30 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
     for (std::size_t q = 0; q < radii.size(); ++q) world_.add_sphere(placed[q], shrink * radii[q], soil_density_, kSoilGroup);
 
     const bool membrane = s.specimen.lateral_boundary == SpecimenSpec::LateralBoundary::BondedMembrane;
+    // The boundary: the scheme's cylinder, or the one an imported packing makes (its own
+    // height and girth: a consolidated specimen has shrunk, a sheared one has bulged).
+    const PackingExtent e = imported ? packing_extent(*s.packing) : PackingExtent{R, -0.5 * H, 0.5 * H};
+    bool restore_membrane = false;
     if (membrane) {
         double rm = s.micro.membrane_particle_radius_m;
         if (rm <= 0.0) rm = boundary::automatic_membrane_radius(rmin, r_mean_, s.specimen.diameter_m);
-        membrane_ = std::make_unique<boundary::Membrane>(world_, R, H, rm, 1000.0, kMembraneGroup);
+        // An exported membrane of the scheme's lattice (built at D/2 and H around the
+        // origin, the generation's) is bonded as built, then moved to where it was.
+        if (imported) {
+            const auto& mr = s.packing->membrane_radius;
+            restore_membrane = !mr.empty() && static_cast<int>(mr.size()) == boundary::Membrane::lattice_count(R, H, rm) &&
+                               std::all_of(mr.begin(), mr.end(), [&](double r) { return std::abs(r - rm) <= 1e-9 * rm; });
+        }
+        const PackingExtent lattice = restore_membrane ? PackingExtent{R, -0.5 * H, 0.5 * H} : e;
+        membrane_ = std::make_unique<boundary::Membrane>(world_, lattice.radius_m, lattice.height_m(), rm, 1000.0,
+                                                         kMembraneGroup, lattice.centre_z_m());
     } else {
-        grain_pressure_ = std::make_unique<boundary::GrainPressure>(0, soil_count_, R, H, r_mean_);
+        grain_pressure_ = std::make_unique<boundary::GrainPressure>(0, soil_count_, e.radius_m, e.height_m(), r_mean_);
         // Generation's container: a rigid cylinder with the grain-membrane law (frictionless).
-        world_.add_cylinder_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), R, H, kMembraneGroup);
+        world_.add_cylinder_wall(Vec3(0, 0, e.bottom_z_m), Vec3::UnitZ(), e.radius_m, e.height_m(), kMembraneGroup);
     }
-    world_.add_plane_wall(Vec3(0, 0, -0.5 * H), Vec3::UnitZ(), kPlatenGroup);
-    world_.add_plane_wall(Vec3(0, 0, 0.5 * H), -Vec3::UnitZ(), kPlatenGroup);
+    world_.add_plane_wall(Vec3(0, 0, e.bottom_z_m), Vec3::UnitZ(), kPlatenGroup);
+    world_.add_plane_wall(Vec3(0, 0, e.top_z_m), -Vec3::UnitZ(), kPlatenGroup);
     world_.set_domain(Vec3(-3 * R, -3 * R, -1.5 * H), Vec3(3 * R, 3 * R, 1.5 * H));
     set_laws(false);
     world_.set_local_damping(s.micro.local_damping);
@@ -125,6 +138,7 @@ Specimen::Specimen(const TestScheme& s, std::function<bool()> cancelled) : schem
     if (membrane_) {
         membrane_->bond(world_, 1.0e9);
         membrane_->set_fixed(world_, true);
+        if (restore_membrane) membrane_->restore(world_, s.packing->membrane_position);
     }
 
     auto& p = world_.particles();

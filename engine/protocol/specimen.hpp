@@ -29,8 +29,9 @@ public:
     // placed at 60 % size without overlap (seeded), then grown to full size in steps with
     // frictionless contacts, and relaxed to equilibrium. Deterministic for scheme.seed.
     // With scheme.packing the grains are the imported ones instead (validated against the
-    // specimen, validate_packing): no generation, the membrane and platens are built
-    // around them and the protocol runs from there. `cancelled` (optional) is polled while
+    // specimen, validate_packing): no generation, the platens and membrane are put back
+    // as the packing had them or built around its grains (imported_packing.hpp), and the
+    // protocol runs from there. `cancelled` (optional) is polled while
     // grains are placed and grown and becomes the cancel check of cycle() (SpecimenCancelled).
     explicit Specimen(const TestScheme& scheme, std::function<bool()> cancelled = {});
     // A deep copy (world and membrane): a second test on the same consolidated specimen

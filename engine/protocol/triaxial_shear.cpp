@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/protocol/membrane_compliance.hpp"
 #include "engine/protocol/platen_servo.hpp"
 
 namespace triax::protocol {
@@ -51,10 +52,9 @@ ShearOutcome shear_to_failure(Specimen& sp, RunContext& run) {
             const double sigma1 = sp.top_stress();
             double q = sigma1 - sigma3;
             if (scheme.effects.membrane_compliance) {
-                // Uncorrected hoop-tension of a real membrane adds to the measured q
-                // (ASTM D7181 form): dq = 4 E_m t_m eps_a / D.
-                q += 4.0 * scheme.effects.membrane_modulus_pa * scheme.effects.membrane_thickness_m * eps_a /
-                     scheme.specimen.diameter_m;
+                // Uncorrected hoop-tension of a real membrane adds to the measured q.
+                q += membrane_hoop_deviator_pa(scheme.effects.membrane_modulus_pa, scheme.effects.membrane_thickness_m,
+                                               scheme.specimen.diameter_m, eps_a);
             }
             pt.q_pa = q;
             pt.sigma1_pa = sigma3 + q;

@@ -25,9 +25,6 @@ DiagnosisCost plan_diagnosis_cost(const diagnose::LabDataset& lab, const protoco
     cost.plan = diagnose::plan_diagnosis(lab, model, options);
     diagnose::ModelPoint nominal;
     for (const auto& p : model.base_parameters()) nominal.base.push_back(p.nominal);
-    const int k = static_cast<int>(nominal.base.size());
-    cost.model_runs_low =
-        options.budget_runs + std::max(0, options.noise_seeds - 1) + (options.finite_difference_uncertainty ? k : 0);
     MinutesRange per_packing;
     for (const auto& run : model.engine_runs(nominal)) {
         const protocol::TestScheme s = run.standalone_scheme();
@@ -42,7 +39,7 @@ DiagnosisCost plan_diagnosis_cost(const diagnose::LabDataset& lab, const protoco
     const double packings = model.packings();
     cost.minutes_per_model_run = {packings * per_packing.low, packings * per_packing.typical, packings * per_packing.high};
     const auto rounds = [&](int runs) { return std::ceil(static_cast<double>(runs) / std::max(1, options.concurrency)); };
-    cost.minutes_low = rounds(cost.model_runs_low) * cost.minutes_per_model_run.low;
+    cost.minutes_low = rounds(cost.plan.model_runs_low) * cost.minutes_per_model_run.low;
     cost.minutes_high = rounds(cost.plan.model_runs) * cost.minutes_per_model_run.high;
     return cost;
 }
@@ -55,7 +52,7 @@ json diagnosis_cost_to_json(const DiagnosisCost& cost, const diagnose::DiagnoseO
                               {"max_axial_strain_pct", 100.0 * c.max_axial_strain},
                               {"minutes_per_engine_run", minutes_json(c.minutes)}});
     return {{"model_runs_at_most", cost.plan.model_runs},
-            {"model_runs_low", cost.model_runs_low},
+            {"model_runs_low", cost.plan.model_runs_low},
             {"engine_runs_per_model_run", cost.plan.engine_runs_per_model_run},
             {"grains", cost.grains},
             {"lab_conditions", conditions},

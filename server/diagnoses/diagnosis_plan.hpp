@@ -1,12 +1,8 @@
 #pragma once
 // What a diagnosis will cost before it starts: the answer of POST
 // /datasets/{id}/diagnosis-plan and the "plan" of the diagnose 202 (docs/api.md).
-//   model runs  at most: the engine's own plan (diagnose::plan_diagnosis); low: what every
-//               diagnosis runs whatever the residual shows, its calibration budget, the
-//               noise floor's other packings and the base model's finite-difference
-//               uncertainty (k runs, k = base parameters), i.e.
-//               budget_runs + (noise_seeds - 1) + (finite_difference_uncertainty ? k : 0);
-//               the effect search (signatures, candidate fits) comes on top of it.
+//   model runs  at most and low: the engine's own plan (diagnose::plan_diagnosis,
+//               DiagnosisPlan::model_runs and model_runs_low).
 //   minutes     protocol::estimate_run of each engine run of one model run at the DEM
 //               model's nominal point: one per lab condition (confining pressure), as
 //               DemForwardModel::engine_runs gives them (the lab's shear end and creep
@@ -39,8 +35,7 @@ struct PlannedCondition {
 };
 
 struct DiagnosisCost {
-    diagnose::DiagnosisPlan plan;  // model runs at most, engine runs per model run
-    int model_runs_low = 0;        // see the header comment
+    diagnose::DiagnosisPlan plan;  // model runs at most and low, engine runs per model run
     long long grains = 0;          // soil grains of one engine run (the calibration specimen)
     std::vector<PlannedCondition> conditions;
     MinutesRange minutes_per_model_run;            // packings_per_run x the sum over conditions

@@ -7,16 +7,18 @@
 // the schemes are built by the engine's own code, never re-implemented here:
 //   model   the DemForwardModel run_diagnosis built: the same scheme, lab, threads per run,
 //           grain cap, packings per run and relative density (options);
-//   point   the report's final `parameters` (SI) by name: model.base_parameters() in their
-//           order, then each physical effect of `effects` with model.effect_parameters(e);
-//           an effect whose parameters are all at an "off" lower bound is left out, as the
+//   point   the report's final `parameters` (SI) by name (diagnose::final_model_point,
+//           engine/diagnose/final_model.hpp): model.base_parameters() in their order, then
+//           each physical effect of `effects` with model.effect_parameters(e); an effect
+//           whose parameters are all at an "off" lower bound is left out, as the
 //           diagnosis's runs leave it out (ModelEvaluator::physical_point);
 //   schemes model.engine_runs(point): one per lab condition (confining pressure), with the
 //           lab's shear end (2 % past its last reading, no softening stop) and its creep
 //           stages; a condition the diagnosis ran to the end of shear only has no creep
 //           stages, so a run stops where the diagnosis's stopped;
 //   test artefacts  scheme_for leaves them out (the diagnosis applies them to the curves);
-//           the run's protocol applies them as the report fitted them:
+//           the run's protocol applies them as the report fitted them
+//           (diagnose::apply_fitted_artefacts):
 //             seating_strain s [-]       -> effects.seating_error, seating_displacement =
 //                                           s x specimen height (strain + s at the platen);
 //             membrane_stiffness K_m [Pa] -> effects.membrane_compliance, membrane modulus

@@ -341,7 +341,11 @@ protocol::ImportedPacking packing_from_project_json(const json& j, const std::st
     protocol::ImportedPacking p;
     p.source = source;
     for (std::size_t k = 0; k < s.particle_count(); ++k) {
-        if (s.group[k] != 0) continue;  // membrane and platens are rebuilt from the scheme
+        if (s.group[k] == 1) {  // an exported membrane, restored when it fits the scheme's lattice
+            p.membrane_position.push_back(s.position[k]);
+            p.membrane_radius.push_back(s.radius[k]);
+        }
+        if (s.group[k] != 0) continue;
         p.position.push_back(s.position[k]);
         p.radius.push_back(s.radius[k]);
         p.velocity.push_back(s.velocity[k]);
@@ -355,8 +359,11 @@ protocol::ImportedPacking packing_from_project_json(const json& j, const std::st
     if (p.size() == 0) throw PackingParseError("the project JSON holds no grains (group 0)", 0);
     p.mean_radius_m = s.sizing_mean_radius_m;
     p.min_radius_m = s.sizing_min_radius_m;
-    if (s.platens.size() == 2 && s.platens[0].name == "bottom" && s.platens[1].name == "top")
+    if (s.platens.size() == 2 && s.platens[0].name == "bottom" && s.platens[1].name == "top") {
         p.platen_force_n = {s.platens[0].normal_force_n, s.platens[1].normal_force_n};
+        // Packings stored without the platens' heights wrote both points at the origin.
+        if (s.platens[0].point.z() < s.platens[1].point.z()) p.platen_z_m = {s.platens[0].point.z(), s.platens[1].point.z()};
+    }
     return p;
 }
 
@@ -366,26 +373,40 @@ json packing_to_project_json(const protocol::ImportedPacking& p) {
     s.group_names = {"grain"};
     s.sizing_mean_radius_m = p.mean_radius_m;
     s.sizing_min_radius_m = p.min_radius_m;
-    const std::size_t n = p.size();
+    // Grains, then the membrane's spheres (group 1; their mass is the rebuilt lattice's, 0 here).
+    const std::size_t g = p.size(), n = g + p.membrane_position.size();
     s.position = p.position;
+    s.position.insert(s.position.end(), p.membrane_position.begin(), p.membrane_position.end());
     s.radius = p.radius;
-    s.group.assign(n, 0);
+    s.radius.insert(s.radius.end(), p.membrane_radius.begin(), p.membrane_radius.end());
+    s.group.assign(g, 0);
+    s.group.resize(n, 1);
     s.density.assign(n, 0.0);
-    if (p.mass.size() == n && p.inertia.size() == n) {
+    if (p.mass.size() == g && p.inertia.size() == g) {
         s.mass = p.mass;
         s.inertia = p.inertia;
+        s.mass.resize(n, 0.0);
+        s.inertia.resize(n, 0.0);
     }
-    s.velocity = p.velocity.size() == n ? p.velocity : std::vector<Vec3>(n, Vec3::Zero());
-    s.angular_velocity = p.angular_velocity.size() == n ? p.angular_velocity : std::vector<Vec3>(n, Vec3::Zero());
+    if (n > g) s.group_names = {"grain", "membrane"};
+    s.velocity = p.velocity.size() == g ? p.velocity : std::vector<Vec3>(g, Vec3::Zero());
+    s.velocity.resize(n, Vec3::Zero());
+    s.angular_velocity = p.angular_velocity.size() == g ? p.angular_velocity : std::vector<Vec3>(g, Vec3::Zero());
+    s.angular_velocity.resize(n, Vec3::Zero());
     s.displacement.assign(n, Vec3::Zero());
     s.rotation.assign(n, Vec3::Zero());
     s.crushed.assign(n, 0);
-    if (p.platen_force_n.size() == 2) {
-        s.platens.push_back({"bottom", Vec3::Zero(), Vec3::UnitZ(), p.platen_force_n[0]});
-        s.platens.push_back({"top", Vec3::Zero(), -Vec3::UnitZ(), p.platen_force_n[1]});
+    if (p.platen_force_n.size() == 2 || p.platen_z_m.size() == 2) {
+        const bool force = p.platen_force_n.size() == 2, at = p.platen_z_m.size() == 2;
+        s.platens.push_back({"bottom", at ? Vec3(0, 0, p.platen_z_m[0]) : Vec3::Zero(), Vec3::UnitZ(), force ? p.platen_force_n[0] : 0.0});
+        s.platens.push_back({"top", at ? Vec3(0, 0, p.platen_z_m[1]) : Vec3::Zero(), -Vec3::UnitZ(), force ? p.platen_force_n[1] : 0.0});
     }
     json out = snapshot_project_json(s);
-    if (p.line.size() == n) out["particles"]["source_line"] = p.line;
+    if (p.line.size() == g) {
+        std::vector<int> lines = p.line;
+        lines.resize(n, 0);
+        out["particles"]["source_line"] = lines;
+    }
     return out;
 }
 

@@ -251,10 +251,15 @@ protocol::ImportedPacking parse_sphere_list(const std::string& text, const std::
                 throw PackingParseError(source + " line " + std::to_string(line) + ": group must be 0 (grain), 1 (membrane) or 2 "
                                                                                    "(platen); got " + tok[4],
                                         line);
-            if (v[4] != 0) continue;  // membrane and platens are rebuilt from the scheme
         }
         if (v[3] <= 0.0)
             throw PackingParseError(source + " line " + std::to_string(line) + ": radius must be positive; got " + tok[3], line);
+        if (v[4] == 2) continue;  // platens are planes, placed from the grains
+        if (v[4] == 1) {          // an exported membrane, restored when it fits the scheme's lattice
+            p.membrane_position.emplace_back(v[0] * *scale, v[1] * *scale, v[2] * *scale);
+            p.membrane_radius.push_back(v[3] * *scale);
+            continue;
+        }
         p.position.emplace_back(v[0] * *scale, v[1] * *scale, v[2] * *scale);
         p.radius.push_back(v[3] * *scale);
         p.line.push_back(line);

@@ -67,6 +67,15 @@ const std::pair<TestResult, std::vector<SpecimenSnapshot>>& generated_run() {
     return r;
 }
 
+// The small scheme starting from a snapshot exported in `format` and read back.
+TestScheme scheme_from(const SpecimenSnapshot& snap, io::PackingFormat format) {
+    TestScheme s = small_scheme();
+    const bool spheres = format == io::PackingFormat::Spheres;
+    s.packing = std::make_shared<ImportedPacking>(
+        io::parse_packing(io::snapshot_to_text(snap, format), snap.stage + (spheres ? ".txt" : ".json")));
+    return s;
+}
+
 }  // namespace
 
 TEST_CASE("snapshots are recorded at the end of each stage", "[protocol][packing]") {
@@ -150,9 +159,7 @@ TEST_CASE("an imported packing is the same specimen as the generated one it came
 
 TEST_CASE("an imported packing gives the same run as the generated one it came from", "[protocol][packing]") {
     const auto& [res, snaps] = generated_run();
-    TestScheme s = small_scheme();
-    const auto text = io::snapshot_to_text(find_stage(snaps, "generation"), io::PackingFormat::Project);
-    s.packing = std::make_shared<ImportedPacking>(io::parse_packing(text, "generation.json"));
+    const TestScheme s = scheme_from(find_stage(snaps, "generation"), io::PackingFormat::Project);
     Recorder rec;
     const auto again = run_triaxial_test(s, rec, Phase::Shear);
     CHECK(again.particle_count == res.particle_count);
@@ -164,6 +171,61 @@ TEST_CASE("an imported packing gives the same run as the generated one it came f
         CHECK(again.shear[k].volumetric_strain == res.shear[k].volumetric_strain);
     }
     require_same_bits(find_stage(rec.snapshots, "shear").position, find_stage(snaps, "shear").position);
+}
+
+// Every stage a run exports (generation, consolidation, shear, each creep-k the scheme
+// has) comes back as the specimen of the same scheme: the grains and the membrane's
+// spheres exactly where they were, the platens where the export recorded them (project
+// JSON) or touching the outermost grains (a sphere list names no platens), so a
+// consolidated specimen that has shrunk and has grains pressed into its platens keeps its
+// height, its wrinkled membrane and its platen contacts.
+TEST_CASE("every stage a run exports imports as the specimen of the same scheme", "[protocol][packing]") {
+    const auto& snaps = generated_run().second;
+    REQUIRE(snaps.size() >= 3);
+    for (const auto& snap : snaps) {
+        for (const auto format : {io::PackingFormat::Spheres, io::PackingFormat::Project}) {
+            const bool spheres = format == io::PackingFormat::Spheres;
+            INFO("stage " << snap.stage << (spheres ? ", sphere list" : ", project JSON"));
+            const TestScheme t = scheme_from(snap, format);
+            REQUIRE_NOTHROW(validate_packing(*t.packing, t));
+            const Specimen imported(t);
+            const std::size_t n = snap.count_of(kSoilGroup);
+            REQUIRE(imported.soil_count() == static_cast<int>(n));
+            const auto& p = imported.world().particles();
+            require_same_bits(std::vector<Vec3>(p.position.begin(), p.position.begin() + n),
+                              std::vector<Vec3>(snap.position.begin(), snap.position.begin() + n));
+            double lo = 1e9, hi = -1e9;
+            for (std::size_t q = 0; q < n; ++q) {
+                lo = std::min(lo, snap.position[q].z() - snap.radius[q]);
+                hi = std::max(hi, snap.position[q].z() + snap.radius[q]);
+            }
+            // The membrane as it was (wrinkled by the consolidation, bulged by the shear).
+            REQUIRE(imported.membrane_particle_count() == static_cast<int>(snap.count_of(kMembraneGroup)));
+            require_same_bits(std::vector<Vec3>(p.position.begin() + n, p.position.end()),
+                              std::vector<Vec3>(snap.position.begin() + n, snap.position.end()));
+            REQUIRE(snap.platens.size() == 2);
+            if (spheres) {
+                CHECK(imported.bottom_z() == lo);
+                CHECK(imported.top_z() == hi);
+            } else {
+                CHECK(imported.bottom_z() == snap.platens[0].point.z());
+                CHECK(imported.top_z() == snap.platens[1].point.z());
+            }
+        }
+    }
+}
+
+// The case of the report: the consolidated state as a sphere list, run again on the same
+// scheme, consolidates (and with it shears: the shear starts from this state).
+TEST_CASE("a consolidated packing exported as a sphere list runs on the same scheme", "[protocol][packing]") {
+    const auto& consolidated = find_stage(generated_run().second, "consolidation");
+    const TestScheme t = scheme_from(consolidated, io::PackingFormat::Spheres);
+    RunObserver none;
+    const auto again = run_triaxial_test(t, none, Phase::Consolidation);
+    CHECK(again.particle_count == static_cast<int>(consolidated.count_of(kSoilGroup)));
+    CHECK(again.membrane_particle_count == static_cast<int>(consolidated.count_of(kMembraneGroup)));
+    CHECK(again.consolidation.steps > 0);
+    CHECK(again.consolidation.achieved_sigma3_pa == Approx(t.loading.confining_pressure_pa).epsilon(0.05));
 }
 
 TEST_CASE("LAMMPS and VTK exports parse back", "[protocol][packing]") {
@@ -286,10 +348,23 @@ TEST_CASE("bad packings are refused naming the line and the cause", "[protocol][
         }
         return std::string("valid");
     };
-    CHECK(invalid("0 0 0 3\n0 0 6.5 3\n") == "valid");
-    CHECK(invalid("0 0 0 3\n0 0 4 3\n").find("f.txt line 2: grain overlaps the grain of f.txt line 1 by 66.7 %") == 0);
-    CHECK(invalid("0 0 0 3\n21 0 0 3\n").find("f.txt line 2: grain outside the specimen") == 0);
-    CHECK(invalid("0 0 39 3\n").find("f.txt line 1: grain outside the specimen: z from") == 0);
-    // Millimetres read as metres: a 3 m grain crosses the platens.
+    // A column of grains spanning the specimen, with a grain out to the membrane.
+    const std::string column = "0 0 -37 3\n0 0 37 3\n17 0 0 3\n";
+    CHECK(invalid(column + "0 0 0 3\n0 0 6.5 3\n") == "valid");
+    CHECK(invalid(column + "0 0 0 3\n0 0 4 3\n").find("f.txt line 5: grain overlaps the grain of f.txt line 4 by 66.7 %") == 0);
+    // The packing's own extent is the specimen: grains pressed into the platens (here by
+    // 1.5 mm, half a radius), or a specimen that has shrunk or bulged, are taken as they are.
+    CHECK(invalid("0 0 -38.5 3\n0 0 38.5 3\n17 0 0 3\n") == "valid");
+    CHECK(invalid("0 0 -30 3\n0 0 30 3\n15 0 0 3\n") == "valid");
+    CHECK(invalid("0 0 -37 3\n0 0 37 3\n23 0 0 3\n") == "valid");
+    // Far outside: beyond the specimen by more than half its radius or half-height.
+    CHECK(invalid(column + "28 0 0 3\n").find("f.txt line 4: grain outside the specimen: it reaches radius 31 mm") == 0);
+    CHECK(invalid(column + "0 0 58 3\n").find("f.txt line 4: grain outside the specimen: z from") == 0);
+    // Origin at the base instead of the centre: the top grains pass the top by H/2.
+    CHECK(invalid("0 0 3 3\n0 0 77 3\n17 0 40 3\n").find("f.txt line 2: grain outside the specimen: z from") == 0);
+    // Millimetres read as metres: a 3 m grain crosses the platens; metres read as
+    // millimetres: a specimen a thousand times too small.
     CHECK(invalid("# units: m\n0 0 0 3\n").find("outside the specimen") != std::string::npos);
+    CHECK(invalid("0 0 -0.037 0.003\n0 0 0.037 0.003\n0.017 0 0 0.003\n").find("f.txt: the grains span") == 0);
+    CHECK(invalid("0 0 -37 3\n0 0 37 3\n").find("f.txt: the grains span a diameter of 6 mm") == 0);
 }
