@@ -134,8 +134,8 @@ def main():
     a = ap.parse_args()
     cases = json.load(open(os.path.join(HERE, "cases.json")))["cases"]
     if a.cases:
-        want = a.cases.split(",")
-        cases = [c for c in cases if c["name"] in want]
+        by_name = {c["name"]: c for c in cases}
+        cases = [by_name[n] for n in a.cases.split(",") if n in by_name]  # in the order asked
     missing = [{"case": c["name"], "answer": c["answer"], "verdict": "no dataset (%s)" % c.get("note", c.get("what"))}
                for c in cases if not c.get("file")]
     cases = [c for c in cases if c.get("file")]

@@ -72,9 +72,25 @@ def q_and_p():
 
 
 d_mean = 0.004
+
+
+def moment_law_on_every_contact():
+    """CohesionMoment applies its rolling and twisting moments only to cohesive contacts
+    unless always_use_moment_law is set: without it the rolling cases' etaRoll did nothing
+    (their curves equalled the plain ones). Set on the engines in use (a loaded state
+    brings its own)."""
+    for e in O.engines:
+        if isinstance(e, InteractionLoop):
+            for f in e.lawDispatcher.functors:
+                if isinstance(f, Law2_ScGeom6D_CohFrictPhys_CohesionMoment):
+                    f.always_use_moment_law = rolling
+
+
+moment_law_on_every_contact()
 if CFG["state"] and os.path.exists(CFG["state"]):
     O.load(CFG["state"])
     ctl = [e for e in O.engines if isinstance(e, PeriTriaxController)][0]
+    moment_law_on_every_contact()
     checks["consolidation"] = json.load(open(CFG["state"] + ".json"))
 else:
     # A cloud already at porosity ~0.59 (random sequential placement reaches it for this
