@@ -90,6 +90,23 @@ inline service::RunExecutor scripted_executor(ScriptControl& control) {
     };
 }
 
+// A TCP connection to 127.0.0.1:port with receive and send timeouts (s; 0 = none).
+inline int connect_loopback(int port, int timeout_s = 10) {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    REQUIRE(fd >= 0);
+    if (timeout_s > 0) {
+        timeval tv{timeout_s, 0};
+        setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+        setsockopt(fd, SOL_SOCKET, SO_SNDTIMEO, &tv, sizeof tv);
+    }
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<std::uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+    return fd;
+}
+
 struct Reply {
     int status = 0;
     json body;
@@ -144,15 +161,7 @@ public:
     // A POST with no body and neither Content-Length nor Transfer-Encoding (what
     // `curl -X POST URL` sends), over a raw socket; gives up after 3 s without an answer.
     Reply post_without_length(const std::string& path) const {
-        const int fd = socket(AF_INET, SOCK_STREAM, 0);
-        REQUIRE(fd >= 0);
-        timeval tv{3, 0};
-        setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-        sockaddr_in addr{};
-        addr.sin_family = AF_INET;
-        addr.sin_port = htons(static_cast<std::uint16_t>(port_));
-        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+        const int fd = connect_loopback(port_, 3);
         const std::string request = "POST " + path + " HTTP/1.1\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
         REQUIRE(send(fd, request.data(), request.size(), 0) == static_cast<ssize_t>(request.size()));
         std::string raw;
@@ -177,15 +186,7 @@ public:
     // Connection: close), over a raw socket; the answer's status and raw text.
     std::pair<int, std::string> raw(const std::string& method, const std::string& path,
                                     const std::vector<std::string>& lines, const std::string& body = "") const {
-        const int fd = socket(AF_INET, SOCK_STREAM, 0);
-        REQUIRE(fd >= 0);
-        timeval tv{10, 0};
-        setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-        sockaddr_in addr{};
-        addr.sin_family = AF_INET;
-        addr.sin_port = htons(static_cast<std::uint16_t>(port_));
-        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
+        const int fd = connect_loopback(port_, 10);
         std::string request = method + " " + path + " HTTP/1.1\r\n";
         for (const auto& l : lines) request += l + "\r\n";
         request += "Content-Length: " + std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;

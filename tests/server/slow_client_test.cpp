@@ -11,16 +11,7 @@ using namespace triax::test;
 
 namespace {
 
-int open_connection(int port) {
-    const int fd = socket(AF_INET, SOCK_STREAM, 0);
-    REQUIRE(fd >= 0);
-    sockaddr_in addr{};
-    addr.sin_family = AF_INET;
-    addr.sin_port = htons(static_cast<std::uint16_t>(port));
-    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0);
-    return fd;
-}
+int open_connection(int port) { return connect_loopback(port, 0); }  // no timeouts: the server decides
 
 // A connection that has sent part of a head and stops there.
 int unfinished_head(int port) {
