@@ -235,18 +235,13 @@ int DiagnosisDriver::select(Fit& same, std::vector<Fit>& fits, std::vector<Candi
         if (opt_.noise_seeds > 1) {
             if (!without_run) without_elsewhere = nrmse_on_other_packings(same), without_run = true;
             const std::vector<double> with_elsewhere = nrmse_on_other_packings(f);
-            c.paired_gains = {gain};
-            for (std::size_t k = 0; k < with_elsewhere.size() && k < without_elsewhere.size(); ++k)
-                c.paired_gains.push_back(without_elsewhere[k] - with_elsewhere[k]);
-            double mean = 0.0, var = 0.0;
-            for (double g : c.paired_gains) mean += g / static_cast<double>(c.paired_gains.size());
-            for (double g : c.paired_gains) var += (g - mean) * (g - mean);
-            const double spread = std::sqrt(var / static_cast<double>(std::max<std::size_t>(1, c.paired_gains.size() - 1)));
-            if (!(mean > spread)) {
+            c.paired_gains = paired_gains(gain, without_elsewhere, with_elsewhere);
+            const PairedGainSummary g = summarise_paired_gains(c.paired_gains);
+            if (!g.seen()) {
                 std::ostringstream why;
                 why.precision(3);
-                why << "not named: on " << c.paired_gains.size() << " packings it lowers NRMSE by " << 100.0 * mean
-                    << " % on average, not more than the spread of that gain between packings (" << 100.0 * spread
+                why << "not named: on " << c.paired_gains.size() << " packings it lowers NRMSE by " << 100.0 * g.mean
+                    << " % on average, not more than the spread of that gain between packings (" << 100.0 * g.spread
                     << " %)";
                 c.note = why.str();
                 continue;

@@ -145,6 +145,10 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     }
 }
 
+std::string DemForwardModel::lab_cohesion_text() const {
+    return "c' = " + std::to_string(static_cast<long>(std::lround(lab_cohesion_pa_ / 1e3))) + " kPa";
+}
+
 bool DemForwardModel::includes(Effect e) const {
     // Only the artefacts and moisture bonding can be in the base: the others were taken out.
     switch (e) {
@@ -157,9 +161,8 @@ std::string DemForwardModel::not_offered_reason(Effect e) const {
     switch (e) {
         case Effect::MoistureBonding:
             if (!bonds_calibrated_)
-                return "the lab's peak Mohr-Coulomb envelope shows no cohesion (c' = " +
-                       std::to_string(static_cast<long>(std::lround(lab_cohesion_pa_ / 1e3))) +
-                       " kPa, under 5 % of q): no bonds to add";
+                return "the lab's peak Mohr-Coulomb envelope shows no cohesion (" + lab_cohesion_text() +
+                       ", under 5 % of q): no bonds to add";
             return "the base calibrates the bond strength from 0 (cohesionless) upwards, which is what moisture "
                    "bonding would add";
         case Effect::ContactCreepViscosity:
@@ -182,8 +185,8 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
     };
     if (!bonds_calibrated_)
         h.push_back({"bond_strength", "Pa", 0.0,
-                     "cohesionless: the lab's peak Mohr-Coulomb envelope has no cohesion intercept worth 5 % of q (c' = " +
-                         std::to_string(static_cast<long>(std::lround(lab_cohesion_pa_ / 1e3))) + " kPa)"});
+                     "cohesionless: the lab's peak Mohr-Coulomb envelope has no cohesion intercept worth 5 % of q (" +
+                         lab_cohesion_text() + ")"});
     h.push_back({"generation_porosity", "-", kDiagnosisGenerationPorosity,
                  "the packing is grown loose; the compaction friction gives it its density"});
     if (relative_density_)

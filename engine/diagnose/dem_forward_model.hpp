@@ -137,6 +137,7 @@ private:
     // Mohr-Coulomb envelope has an intercept above 5 % of q); otherwise it is held at 0.
     bool bonds_calibrated_ = false;
     double lab_cohesion_pa_ = 0.0;  // the lab's peak envelope intercept c'
+    std::string lab_cohesion_text() const;  // "c' = 6 kPa", for the report's reasons
 };
 
 }  // namespace triax::diagnose

@@ -14,14 +14,12 @@ namespace triax::diagnose {
 DiagnosisDriver::DiagnosisDriver(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& opt,
                                  DiagnoseObserver& obs, SimulationBatch& batch)
     : opt_(opt), obs_(obs), eval_(lab, model, batch, opt.seed) {
-    int physical = 0;
-    for (const auto& [e, s] : eval_.effect_specs()) physical += is_test_artefact(e) ? 0 : 1;
+    int physical = 0, artefacts = 0;
+    for (const auto& [e, s] : eval_.effect_specs()) (is_test_artefact(e) ? artefacts : physical) += 1;
     const int k = static_cast<int>(eval_.base_specs().size());
     // Paired gains: per step the model without the candidates and each candidate that passes
     // BIC, on the noise floor's other packings; and the final model with and without each
     // artefact kept (the artefacts' paired gains, settle_artefacts).
-    int artefacts = 0;
-    for (const auto& [e, s] : eval_.effect_specs()) artefacts += is_test_artefact(e) ? 1 : 0;
     const int paired = (opt_.max_effects * (opt_.max_candidates + 1) + 1 + artefacts) * std::max(0, opt_.noise_seeds - 1);
     planned_runs_ = opt_.budget_runs + std::max(0, opt_.noise_seeds - 1) + 2 * (k + 2) +
                     opt_.max_effects * (physical + (opt_.max_candidates + 1) * std::max(opt_.refine_runs, 1)) + paired;
@@ -264,13 +262,8 @@ Fit DiagnosisDriver::settle_artefacts(Fit current) {
         if (opt_.noise_seeds > 1) {
             if (!with_run) with_elsewhere = nrmse_on_other_packings(current), with_run = true;
             const std::vector<double> without_elsewhere = nrmse_on_other_packings(w);
-            st.paired_gains = {st.nrmse_before - st.nrmse_after};
-            for (std::size_t k = 0; k < with_elsewhere.size() && k < without_elsewhere.size(); ++k)
-                st.paired_gains.push_back(without_elsewhere[k] - with_elsewhere[k]);
-            double mean = 0.0, var = 0.0;
-            for (double g : st.paired_gains) mean += g / static_cast<double>(st.paired_gains.size());
-            for (double g : st.paired_gains) var += (g - mean) * (g - mean);
-            seen = mean > std::sqrt(var / static_cast<double>(st.paired_gains.size() - 1));
+            st.paired_gains = paired_gains(st.nrmse_before - st.nrmse_after, without_elsewhere, with_elsewhere);
+            seen = summarise_paired_gains(st.paired_gains).seen();
         } else {
             const bool beyond_packing = st.nrmse_before - st.nrmse_after > rep_.noise.model_nrmse;
             const bool halves = st.nrmse_after <= 0.5 * st.nrmse_before;

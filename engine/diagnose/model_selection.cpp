@@ -1,4 +1,4 @@
-// Effective readings and BIC (formulas in model_selection.hpp).
+// Effective readings, BIC and paired gains (formulas in model_selection.hpp).
 #include "engine/diagnose/model_selection.hpp"
 
 #include <algorithm>
@@ -43,6 +43,24 @@ double bic(double rss, std::size_t n, double n_eff, std::size_t k) {
     // Floor on the mean square: an exact fit must not give -infinity.
     const double ms = std::max(rss / static_cast<double>(n), 1e-300);
     return n_eff * std::log(ms) + static_cast<double>(k) * std::log(n_eff);
+}
+
+std::vector<double> paired_gains(double own_gain, const std::vector<double>& without_elsewhere,
+                                 const std::vector<double>& with_elsewhere) {
+    std::vector<double> g{own_gain};
+    for (std::size_t k = 0; k < with_elsewhere.size() && k < without_elsewhere.size(); ++k)
+        g.push_back(without_elsewhere[k] - with_elsewhere[k]);
+    return g;
+}
+
+PairedGainSummary summarise_paired_gains(const std::vector<double>& gains) {
+    PairedGainSummary s;
+    if (gains.empty()) return s;
+    for (double g : gains) s.mean += g / static_cast<double>(gains.size());
+    double var = 0.0;
+    for (double g : gains) var += (g - s.mean) * (g - s.mean);
+    s.spread = std::sqrt(var / static_cast<double>(std::max<std::size_t>(1, gains.size() - 1)));
+    return s;
 }
 
 }  // namespace triax::diagnose

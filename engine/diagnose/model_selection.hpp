@@ -25,4 +25,19 @@ double residual_sum_of_squares(const std::vector<double>& residual);
 
 double bic(double rss, std::size_t n, double n_eff, std::size_t k);
 
+// Paired gains of a model change, in pooled NRMSE: the gain on the calibration's packing
+// first, then per other packing without - with (the two runs of a pair share a packing, so
+// its stick-slip history cancels; docs/diagnosis.md section 4).
+std::vector<double> paired_gains(double own_gain, const std::vector<double>& without_elsewhere,
+                                 const std::vector<double>& with_elsewhere);
+
+// The mean of paired gains and their sample standard deviation across packings; a change
+// is seen when the mean exceeds the spread.
+struct PairedGainSummary {
+    double mean = 0.0;
+    double spread = 0.0;
+    bool seen() const { return mean > spread; }
+};
+PairedGainSummary summarise_paired_gains(const std::vector<double>& gains);
+
 }  // namespace triax::diagnose
