@@ -42,7 +42,7 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
                          std::to_string(p.inertia.size()) + " moments of inertia (give both for every grain, or neither)");
     const double R = 0.5 * scheme.specimen.diameter_m, H = scheme.specimen.height_m;
     const double R_out = (1.0 + tol.extent) * R, Z_out = (1.0 + tol.extent) * 0.5 * H;
-    double r_max = 0.0, reach = 0.0, lo = 1e300, hi = -1e300;
+    double r_max = 0.0;
     for (std::size_t q = 0; q < n; ++q) {
         const Vec3& x = p.position[q];
         const double r = p.radius[q];
@@ -64,9 +64,6 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
                              mm(x.z() + r) + " leaves [" + mm(-Z_out) + ", " + mm(Z_out) + "], the height " + mm(H) +
                              " + " + pct(tol.extent) + " (specimen.height_mm; centred at the origin)");
         r_max = std::max(r_max, r);
-        reach = std::max(reach, rho + r);
-        lo = std::min(lo, x.z() - r);
-        hi = std::max(hi, x.z() + r);
     }
     const std::string src = p.source.empty() ? std::string("packing") : p.source;
     if (!p.platen_z_m.empty()) {
@@ -74,8 +71,6 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
             !(p.platen_z_m[0] < p.platen_z_m[1]) || p.platen_z_m[0] < -Z_out || p.platen_z_m[1] > Z_out)
             throw InputError(src + ": the platens' heights must be two finite numbers, bottom below top, within [" +
                              mm(-Z_out) + ", " + mm(Z_out) + "]");
-        lo = p.platen_z_m[0];
-        hi = p.platen_z_m[1];
     }
     // Pairs through a uniform grid of cells 2 r_max wide: each grain meets the 27 cells around it.
     const double cell = 2.0 * r_max;
@@ -106,11 +101,12 @@ void validate_packing(const ImportedPacking& p, const TestScheme& scheme, const 
                 }
     }
     // A specimen much smaller than the scheme's: metres read as millimetres, or the wrong scheme.
-    if (hi - lo < (1.0 - tol.extent) * H)
-        throw InputError(src + ": the grains span " + mm(hi - lo) + " in z, less than " + pct(1.0 - tol.extent) +
+    const PackingExtent e = packing_extent(p);
+    if (e.height_m() < (1.0 - tol.extent) * H)
+        throw InputError(src + ": the grains span " + mm(e.height_m()) + " in z, less than " + pct(1.0 - tol.extent) +
                          " of the specimen height " + mm(H) + " (specimen.height_mm; is the unit right?)");
-    if (reach < (1.0 - tol.extent) * R)
-        throw InputError(src + ": the grains span a diameter of " + mm(2.0 * reach) + ", less than " +
+    if (e.radius_m < (1.0 - tol.extent) * R)
+        throw InputError(src + ": the grains span a diameter of " + mm(2.0 * e.radius_m) + ", less than " +
                          pct(1.0 - tol.extent) + " of the specimen diameter " + mm(2.0 * R) +
                          " (specimen.diameter_mm; is the unit right?)");
 }

@@ -18,20 +18,19 @@ namespace {
 constexpr int kTickMs = 100;
 }  // namespace
 
-void refuse_and_close(int fd, int status, const char* reason) {
-    const std::string answer = "HTTP/1.1 " + std::to_string(status) + " " + reason +
-                               "\r\nConnection: close\r\nContent-Length: 0\r\n\r\n";
-    (void)::send(fd, answer.data(), answer.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-    ::shutdown(fd, SHUT_RDWR);
-    ::close(fd);
-}
-
 namespace {
 void close_quietly(int fd) {
     ::shutdown(fd, SHUT_RDWR);
     ::close(fd);
 }
 }  // namespace
+
+void refuse_and_close(int fd, int status, const char* reason) {
+    const std::string answer = "HTTP/1.1 " + std::to_string(status) + " " + reason +
+                               "\r\nConnection: close\r\nContent-Length: 0\r\n\r\n";
+    (void)::send(fd, answer.data(), answer.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+    close_quietly(fd);
+}
 
 HeaderGate::HeaderGate(GateLimits limits, Ready ready) : limits_(limits), ready_(std::move(ready)) {
     if (::pipe2(wake_, O_NONBLOCK | O_CLOEXEC) != 0) throw std::runtime_error("cannot create the header gate's pipe");
