@@ -34,7 +34,10 @@ struct DiagnoseOptions {
     int refine_runs = 3;           // evaluations per augmented candidate fit
     int max_candidates = 2;        // top-ranked effects fitted as augmented models
     int max_effects = 2;           // stepwise: effects added one at a time while BIC improves
-    int concurrency = 2;           // model evaluations run at the same time
+    // Runs per refinement batch of the calibration: part of the method (which points are
+    // run depends on it), so the report depends on it and on nothing of the machine.
+    int batch_runs = 2;
+    int concurrency = 2;           // model evaluations run at the same time (the report does not depend on it)
     int threads_per_run = 1;       // OpenMP threads inside one DEM run
     // DEM: cap on soil particles per run (0 = the scheme's): the calibration specimen.
     int max_particles = 200;
@@ -107,6 +110,9 @@ struct SelectionStep {
     // the noise floor's), the final model with and without it each at its own point; empty
     // for a physical effect's step (its candidate carries them) or with one packing.
     std::vector<double> paired_gains;
+    // A test artefact's gain on each confining pressure of the calibration's packing
+    // (pressure Pa, NRMSE gain); empty for a physical effect's step.
+    std::vector<std::pair<double, double>> gain_by_confining;
 };
 
 // Why a catalog effect was not tested.

@@ -1,8 +1,11 @@
 // Effective readings, BIC and paired gains (formulas in model_selection.hpp).
 #include "engine/diagnose/model_selection.hpp"
 
+#include "engine/diagnose/residuals.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 namespace triax::diagnose {
@@ -61,6 +64,38 @@ PairedGainSummary summarise_paired_gains(const std::vector<double>& gains) {
     for (double g : gains) var += (g - s.mean) * (g - s.mean);
     s.spread = std::sqrt(var / static_cast<double>(std::max<std::size_t>(1, gains.size() - 1)));
     return s;
+}
+
+std::vector<std::pair<double, double>> gains_by_confining(const std::vector<double>& without, const std::vector<double>& with,
+                                                          const std::vector<std::pair<std::size_t, std::size_t>>& ranges,
+                                                          const std::vector<double>& series_confining_pa) {
+    if (series_confining_pa.size() != ranges.size())
+        throw std::invalid_argument("gains_by_confining: one confining pressure per series range");
+    struct Sums {
+        double without = 0.0, with = 0.0;
+        std::size_t n = 0;
+    };
+    std::map<double, Sums> by_pressure;
+    for (std::size_t s = 0; s < ranges.size(); ++s) {
+        const auto [a, b] = ranges[s];
+        if (b > without.size() || b > with.size() || a > b)
+            throw std::out_of_range("gains_by_confining: series range outside the residual");
+        Sums& p = by_pressure[series_confining_pa[s]];
+        for (std::size_t i = a; i < b; ++i) {
+            // A reading either run did not reach is left out of both.
+            if (is_unreached(without[i]) || is_unreached(with[i])) continue;
+            p.without += without[i] * without[i];
+            p.with += with[i] * with[i];
+            ++p.n;
+        }
+    }
+    std::vector<std::pair<double, double>> out;
+    for (const auto& [pa, p] : by_pressure) {
+        if (p.n == 0) continue;
+        const double n = static_cast<double>(p.n);
+        out.emplace_back(pa, std::sqrt(p.without / n) - std::sqrt(p.with / n));
+    }
+    return out;
 }
 
 }  // namespace triax::diagnose

@@ -40,4 +40,14 @@ struct PairedGainSummary {
 };
 PairedGainSummary summarise_paired_gains(const std::vector<double>& gains);
 
+// A model change's gain on each confining pressure of one packing: per pressure, the RMS of
+// the pooled normalised residual over that pressure's series without the change minus with
+// it, in ascending pressure (Pa). `series_confining_pa[i]` is the pressure of
+// `ranges[i]`. An apparatus artefact acts on every specimen tested, so its gain is positive
+// on every pressure; a correction standing in for a shape the model lacks helps some
+// pressures at the others' expense.
+std::vector<std::pair<double, double>> gains_by_confining(const std::vector<double>& without, const std::vector<double>& with,
+                                                          const std::vector<std::pair<std::size_t, std::size_t>>& ranges,
+                                                          const std::vector<double>& series_confining_pa);
+
 }  // namespace triax::diagnose

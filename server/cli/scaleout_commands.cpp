@@ -194,11 +194,11 @@ int diagnose_command(int argc, char** argv) {
             return 0;
         }
         scaleout::MpiSimulationBatch batch(*ranks.pool);
-        // The calibration sizes its batches by options.concurrency, not by the ranks, so
+        // The calibration sizes its batches by options.batch_runs, not by the ranks, so
         // the report does not depend on -np; more ranks than that number wait.
-        if (options.concurrency < batch.width())
-            std::fprintf(stderr, "diagnose: concurrency %d < %d ranks: set \"concurrency\" in the options to use them all\n",
-                         options.concurrency, batch.width());
+        if (options.batch_runs < batch.width())
+            std::fprintf(stderr, "diagnose: batch_runs %d < %d ranks: set \"batch_runs\" in the options to use them all\n",
+                         options.batch_runs, batch.width());
         report = diagnose::run_diagnosis(lab, model, options, observer, batch);
 #endif
     }

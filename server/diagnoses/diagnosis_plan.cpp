@@ -38,7 +38,9 @@ DiagnosisCost plan_diagnosis_cost(const diagnose::LabDataset& lab, const protoco
     }
     const double packings = model.packings();
     cost.minutes_per_model_run = {packings * per_packing.low, packings * per_packing.typical, packings * per_packing.high};
-    const auto rounds = [&](int runs) { return std::ceil(static_cast<double>(runs) / std::max(1, options.concurrency)); };
+    // Runs at once: a batch's runs, spread over the evaluation threads.
+    const int at_once = std::max(1, std::min(options.concurrency, options.batch_runs));
+    const auto rounds = [&](int runs) { return std::ceil(static_cast<double>(runs) / at_once); };
     cost.minutes_low = rounds(cost.plan.model_runs_low) * cost.minutes_per_model_run.low;
     cost.minutes_high = rounds(cost.plan.model_runs) * cost.minutes_per_model_run.high;
     return cost;

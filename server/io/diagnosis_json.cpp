@@ -160,10 +160,14 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
     json candidates = json::array();
     for (const auto& c : r.candidates) candidates.push_back(candidate_to_json(c));
     json steps = json::array();
-    for (const auto& s : r.steps)
+    for (const auto& s : r.steps) {
+        json by_pressure = json::array();
+        for (const auto& [pa, gain] : s.gain_by_confining)
+            by_pressure.push_back({{"sigma3_kPa", pa / 1000.0}, {"nrmse_gain", gain}});
         steps.push_back({{"step", s.step}, {"added", s.added}, {"nrmse_before", s.nrmse_before},
                          {"nrmse_after", s.nrmse_after}, {"delta_bic", s.delta_bic}, {"n_effective", s.n_effective},
-                         {"paired_gains", s.paired_gains}});
+                         {"paired_gains", s.paired_gains}, {"gain_by_sigma3", by_pressure}});
+    }
     json held = json::array();
     for (const auto& h : r.held_fixed) held.push_back({{"name", h.name}, {"unit", h.unit}, {"value", h.value}, {"why", h.why}});
     json untested = json::array();
@@ -245,10 +249,14 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
     for (const auto& ru : d.value("runners_up", json::array()))
         r.runners_up.push_back({ru.at("effect").get<std::string>(), ru.at("delta_bic").get<double>()});
     for (const auto& c : j.value("candidates", json::array())) r.candidates.push_back(candidate_from_json(c));
-    for (const auto& s : j.value("steps", json::array()))
-        r.steps.push_back({s.at("step").get<int>(), s.value("added", std::string{}), s.value("nrmse_before", 0.0),
-                           s.value("nrmse_after", 0.0), s.value("delta_bic", 0.0), s.value("n_effective", 0.0),
-                           s.value("paired_gains", std::vector<double>{})});
+    for (const auto& s : j.value("steps", json::array())) {
+        SelectionStep st{s.at("step").get<int>(), s.value("added", std::string{}), s.value("nrmse_before", 0.0),
+                         s.value("nrmse_after", 0.0), s.value("delta_bic", 0.0), s.value("n_effective", 0.0),
+                         s.value("paired_gains", std::vector<double>{}), {}};
+        for (const auto& g : s.value("gain_by_sigma3", json::array()))
+            st.gain_by_confining.emplace_back(g.at("sigma3_kPa").get<double>() * 1000.0, g.at("nrmse_gain").get<double>());
+        r.steps.push_back(std::move(st));
+    }
     r.n_readings = j.value("n_readings", 0.0);
     r.n_effective = j.value("n_effective", 0.0);
     r.runs_used = j.value("runs_used", 0);
@@ -292,6 +300,7 @@ DiagnoseOptions diagnose_options_from_json(const json& body) {
     o.refine_runs = bounded(body, "refine_runs", 1, 100, o.refine_runs);
     o.max_candidates = bounded(body, "max_candidates", 1, 6, o.max_candidates);
     o.max_effects = bounded(body, "max_effects", 1, 6, o.max_effects);
+    o.batch_runs = bounded(body, "batch_runs", 1, 16, o.batch_runs);
     o.concurrency = bounded(body, "concurrency", 1, 64, o.concurrency);
     o.threads_per_run = bounded(body, "threads_per_run", 1, 64, o.threads_per_run);
     o.max_particles = bounded(body, "max_particles", 0, 1000000, o.max_particles);
@@ -311,6 +320,7 @@ json diagnose_options_to_json(const DiagnoseOptions& o) {
             {"refine_runs", o.refine_runs},
             {"max_candidates", o.max_candidates},
             {"max_effects", o.max_effects},
+            {"batch_runs", o.batch_runs},
             {"concurrency", o.concurrency},
             {"threads_per_run", o.threads_per_run},
             {"max_particles", o.max_particles},

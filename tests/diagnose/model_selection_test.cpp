@@ -5,6 +5,7 @@
 #include <random>
 
 #include "engine/diagnose/model_selection.hpp"
+#include "engine/diagnose/residuals.hpp"
 
 using namespace triax::diagnose;
 
@@ -41,4 +42,20 @@ TEST_CASE("BIC rewards a real improvement and charges each parameter ln(n_eff)",
     CHECK(bic(5.0, 100, 50.0, 4) < b0);
     CHECK_THROWS(bic(1.0, 0, 1.0, 1));
     CHECK(std::isfinite(bic(0.0, 10, 5.0, 1)));
+}
+
+TEST_CASE("gains by confining pressure: per pressure RMS without minus with, unreached readings left out",
+          "[diagnose][bic]") {
+    // Two pressures, two series each (q and volumetric); residuals already normalised.
+    const std::vector<std::pair<std::size_t, std::size_t>> ranges{{0, 2}, {2, 4}, {4, 6}, {6, 8}};
+    const std::vector<double> pressure{100e3, 100e3, 50e3, 50e3};
+    const std::vector<double> without{0.3, 0.3, 0.3, 0.3, 0.1, 0.1, 0.1, kUnreachedPenalty};
+    const std::vector<double> with{0.1, 0.1, 0.1, 0.1, 0.2, 0.2, 0.2, 0.0};
+    const auto g = gains_by_confining(without, with, ranges, pressure);
+    REQUIRE(g.size() == 2);
+    CHECK(g[0].first == 50e3);   // ascending pressure
+    CHECK(g[0].second == Approx(0.1 - 0.2));  // the unreached reading is left out of both
+    CHECK(g[1].first == 100e3);
+    CHECK(g[1].second == Approx(0.3 - 0.1));
+    CHECK_THROWS(gains_by_confining(without, with, ranges, {100e3}));
 }

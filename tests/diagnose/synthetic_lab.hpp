@@ -25,7 +25,7 @@ struct SyntheticLabOptions {
 };
 
 // The loop's options on the analytic stand-in: a converged calibration and candidate fits
-// (budget 24, refine 10, three candidates, three effects, one run at a time). The stand-in
+// (budget 24, refine 10, three candidates, three effects, one run per batch). The stand-in
 // has no packing scatter, so only BIC guards against a candidate that merely out-calibrates
 // the base; the product's defaults are set for DEM run cost and rely on the packing floor
 // as well (docs/diagnosis.md section 5).
@@ -35,6 +35,7 @@ inline DiagnoseOptions analytic_method_options() {
     o.refine_runs = 10;
     o.max_candidates = 3;
     o.max_effects = 3;
+    o.batch_runs = 1;
     o.concurrency = 1;
     return o;
 }
