@@ -333,6 +333,10 @@ void DiagnosisDriver::report(const Fit& final_fit, const Fit& base_source) {
                            rep_.artefacts_below_threshold.end();
         if (!is_test_artefact(e) || !below) rep_.effects.push_back(name);
     }
+    std::vector<std::vector<double>> gain_sets;
+    for (const auto& c : rep_.candidates) gain_sets.push_back(c.paired_gains);
+    for (const auto& st : rep_.steps) gain_sets.push_back(st.paired_gains);
+    rep_.noise.smallest_nameable_gain = median_paired_spread(gain_sets);
     // The outcome: is what remains within what a right model on another packing leaves?
     const RemainingMisfit remaining = judge_remaining(rep_.error_after, rep_.nrmse_after, rep_.noise);
     rep_.worst_remaining = remaining.where;

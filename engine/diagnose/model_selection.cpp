@@ -66,6 +66,16 @@ PairedGainSummary summarise_paired_gains(const std::vector<double>& gains) {
     return s;
 }
 
+double median_paired_spread(const std::vector<std::vector<double>>& gain_sets) {
+    std::vector<double> spreads;
+    for (const auto& g : gain_sets)
+        if (g.size() >= 2) spreads.push_back(summarise_paired_gains(g).spread);
+    if (spreads.empty()) return 0.0;
+    std::sort(spreads.begin(), spreads.end());
+    const std::size_t m = spreads.size() / 2;
+    return spreads.size() % 2 ? spreads[m] : 0.5 * (spreads[m - 1] + spreads[m]);
+}
+
 std::vector<std::pair<double, double>> gains_by_confining(const std::vector<double>& without, const std::vector<double>& with,
                                                           const std::vector<std::pair<std::size_t, std::size_t>>& ranges,
                                                           const std::vector<double>& series_confining_pa) {

@@ -40,6 +40,10 @@ struct PairedGainSummary {
 };
 PairedGainSummary summarise_paired_gains(const std::vector<double>& gains);
 
+// The median spread over sets of paired gains of two or more packings (0 if none): the gain
+// a change must exceed to be seen.
+double median_paired_spread(const std::vector<std::vector<double>>& gain_sets);
+
 // A model change's gain on each confining pressure of one packing: per pressure, the RMS of
 // the pooled normalised residual over that pressure's series without the change minus with
 // it, in ascending pressure (Pa). `series_confining_pa[i]` is the pressure of

@@ -28,6 +28,10 @@ struct NoiseFloor {
     double lab_nrmse = 0.0;
     double tolerance_nrmse = 0.0;
     std::vector<std::pair<std::string, double>> model_nrmse_per_curve;  // label, NRMSE
+    // The pooled-NRMSE gain a change had to exceed to be named: the median, over the
+    // candidates and artefacts tested, of their paired gains' spread across packings (0: no
+    // paired gain measured). The smallest effect this diagnosis could have named.
+    double smallest_nameable_gain = 0.0;
 };
 
 // The lab curves' reading noise (pooled over the layout).

@@ -198,6 +198,7 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
                              {"model_nrmse", r.noise.model_nrmse},
                              {"lab_nrmse", r.noise.lab_nrmse},
                              {"tolerance_nrmse", r.noise.tolerance_nrmse},
+                             {"smallest_nameable_gain_nrmse", r.noise.smallest_nameable_gain},
                              {"model_nrmse_per_curve", per_curve}}},
             {"worst_remaining", r.worst_remaining.curve.empty() ? json(nullptr) : worst[0]},
             {"held_fixed", held},
@@ -268,6 +269,7 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
         r.noise.model_nrmse = n.value("model_nrmse", 0.0);
         r.noise.lab_nrmse = n.value("lab_nrmse", 0.0);
         r.noise.tolerance_nrmse = n.value("tolerance_nrmse", 0.0);
+        r.noise.smallest_nameable_gain = n.value("smallest_nameable_gain_nrmse", 0.0);
         // A named copy: items() over value()'s temporary would read it after its end.
         const json per_curve = n.value("model_nrmse_per_curve", json::object());
         for (const auto& [label, v] : per_curve.items()) r.noise.model_nrmse_per_curve.emplace_back(label, v.get<double>());

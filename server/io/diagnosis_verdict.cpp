@@ -77,6 +77,9 @@ std::string diagnosis_verdict(const DiagnosisReport& r) {
     }
     v << "; noise floor: packings " << pct(r.noise.model_nrmse) << " (" << r.noise.seeds << " seeds), lab readings "
       << pct(r.noise.lab_nrmse);
+    if (r.noise.smallest_nameable_gain > 0.0)
+        v << "; an effect had to lower the NRMSE by more than " << pct(r.noise.smallest_nameable_gain)
+          << " (the spread of paired gains across packings) to be named";
     if (r.unreached_after > 0)
         v << "; " << r.unreached_after << " of " << static_cast<long>(r.n_readings)
           << " readings not reached by the model (counted apart from the misfit)";

@@ -59,3 +59,11 @@ TEST_CASE("gains by confining pressure: per pressure RMS without minus with, unr
     CHECK(g[1].second == Approx(0.3 - 0.1));
     CHECK_THROWS(gains_by_confining(without, with, ranges, {100e3}));
 }
+
+TEST_CASE("smallest nameable gain: the median spread of paired gains over two or more packings", "[diagnose][bic]") {
+    CHECK(median_paired_spread({}) == 0.0);
+    CHECK(median_paired_spread({{0.05}}) == 0.0);  // one packing has no spread
+    // Spreads 0.01, 0.02 and 0.04 (sample SDs of evenly spaced triples): the median is 0.02.
+    CHECK(median_paired_spread({{0.01, 0.02, 0.03}, {0.0, 0.02, 0.04}, {0.0, 0.04, 0.08}, {0.3}}) == Approx(0.02));
+    CHECK(median_paired_spread({{0.01, 0.02, 0.03}, {0.0, 0.02, 0.04}}) == Approx(0.015));
+}
