@@ -14,16 +14,24 @@ import uPlot from '/vendor/uPlot.esm.js';
 const PALETTE = ['#1f5fa8', '#c0392b', '#2e8b57', '#8e44ad', '#d68910', '#17808c', '#7f8c8d', '#b03a7a', '#4d6b00', '#a04000'];
 
 // 1.25×10⁵ rather than 1.25e+5: the form a lab report uses; plain decimals otherwise.
-export function formatTick(v) {
+// `power`: write v in powers of ten whatever its size (one axis in one form: not
+// "50000, 10⁵, 1.5×10⁵" along the same axis).
+export function formatTick(v, power = null) {
   if (v == null || !Number.isFinite(v)) return '';
   if (v === 0) return '0';
   const a = Math.abs(v);
-  if (a >= 1e5 || a < 1e-3) {
+  if (power ?? (a >= 1e5 || a < 1e-3)) {
     const [mant, exp] = Number(v.toPrecision(4)).toExponential().split('e');
     const sup = String(Number(exp)).replace(/[-0-9]/g, c => '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'['-0123456789'.indexOf(c)]);
     return `${mant === '1' ? '' : mant === '-1' ? '-' : mant + '×'}10${sup}`;
   }
   return String(Number(v.toPrecision(6)));
+}
+
+// Every tick of one axis in one form: powers of ten if any tick needs them.
+export function formatTicks(vals) {
+  const power = vals.some(v => v != null && v !== 0 && Number.isFinite(v) && (Math.abs(v) >= 1e5 || Math.abs(v) < 1e-3));
+  return vals.map(v => formatTick(v, power));
 }
 
 const readout = v => (v == null || !Number.isFinite(v) ? '—' : formatTick(Number(v.toPrecision(4))));
@@ -157,6 +165,9 @@ export class Chart {
 
   setTitle(t) { this.options.title = t; this.titleEl.textContent = t; }
 
+  // What the plot says while it has no point ("waiting for data…" by default).
+  setEmptyText(t) { this.empty.textContent = t; }
+
   clear() { this.series.clear(); this.zoomed = false; this.scheduleRender(); }
 
   removeSeries(match) {
@@ -236,9 +247,15 @@ export class Chart {
       focus: { alpha: 0.35 },
       legend: { live: true },
       scales: {
-        x: { time: false, distr: o.xLog ? 3 : 1 },
+        // equalAspect (Mohr circles): x from 0, y from 0 with as many kPa per pixel as x.
+        x: { time: false, distr: o.xLog ? 3 : 1, ...(o.equalAspect ? { range: (u, min, max) => [0, max > 0 ? max * 1.02 : 1] } : {}) },
         y: {
           range: (u, min, max) => {
+            if (o.equalAspect) {
+              const xs = u.scales.x, w = u.bbox.width || this.size().width - 70, h = u.bbox.height || this.options.height - 60;
+              const span = xs.max != null && xs.min != null ? xs.max - xs.min : max;
+              return [0, span * h / Math.max(1, w)];
+            }
             if (min == null || max == null) return [0, 1];
             if (o.yFromZero && min >= 0) min = 0;
             if (max - min < 1e-12) { const d = Math.abs(max) * 0.1 || 1; return [min - d, max + d]; }
@@ -248,10 +265,11 @@ export class Chart {
         },
       },
       axes: [
-        { label: o.xLabel || '', values: (u, vals) => vals.map(formatTick), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
+        { label: o.xLabel || '', values: (u, vals) => formatTicks(vals), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
           space: 60, labelSize: 26 },
-        { label: o.yLabel || '', values: (u, vals) => vals.map(formatTick), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
-          size: 62, labelSize: 24 },
+        // size 70, labelSize 28: room for "deformation since stage load (mm)" and 5-digit ticks.
+        { label: o.yLabel || '', values: (u, vals) => formatTicks(vals), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
+          size: 70, labelSize: 28, labelFont: '12px system-ui, sans-serif' },
       ],
       series: [
         { label: o.xLabel || 'x', value: (u, v) => readout(v) },
