@@ -252,9 +252,11 @@ export class Chart {
         y: {
           range: (u, min, max) => {
             if (o.equalAspect) {
-              const xs = u.scales.x, w = u.bbox.width || this.size().width - 70, h = u.bbox.height || this.options.height - 60;
-              const span = xs.max != null && xs.min != null ? xs.max - xs.min : max;
-              return [0, span * h / Math.max(1, w)];
+              // The plotting area is the figure less the y axis (70 px) and the x axis
+              // (ticks and label, about 56 px); x spans [0, 1.02 x the largest x].
+              const xs = u.data[0], xMax = xs.length ? xs[xs.length - 1] * 1.02 : 1;
+              const w = this.size().width - 80, h = this.options.height - 56;
+              return [0, xMax * h / Math.max(1, w)];
             }
             if (min == null || max == null) return [0, 1];
             if (o.yFromZero && min >= 0) min = 0;
@@ -336,10 +338,20 @@ export class Chart {
     const list = [...this.series.values()].filter((s, i) => this.u.series[i + 1]?.show !== false);
     const cols = Math.max(1, Math.floor(src.width / (dpr * 190)));
     const legendRows = Math.ceil(list.length / cols);
-    const head = 52 * dpr, legend = (legendRows * 18 + 10) * dpr;
+    // The conditions line wrapped at the canvas width (a phone-wide plot cut it off).
+    const measure = document.createElement('canvas').getContext('2d');
+    measure.font = '12px system-ui, sans-serif';
+    const lines = [];
+    for (const word of (this.options.conditions ? this.options.conditions() : '').split(' ')) {
+      const last = lines.length ? lines[lines.length - 1] : null;
+      if (last != null && measure.measureText(`${last} ${word}`).width <= src.width / dpr - 20) lines[lines.length - 1] = `${last} ${word}`;
+      else lines.push(word);
+    }
+    const head = (34 + 16 * Math.max(1, lines.length)) * dpr, legend = (legendRows * 18 + 10) * dpr;
     const out = document.createElement('canvas');
     out.width = src.width;
     out.height = src.height + head + legend;
+    this.root.dataset.pngConditionLines = String(lines.length);
     const ctx = out.getContext('2d');
     ctx.fillStyle = '#fff';
     ctx.fillRect(0, 0, out.width, out.height);
@@ -349,7 +361,7 @@ export class Chart {
     ctx.fillText(this.options.title || '', 10, 20);
     ctx.font = '12px system-ui, sans-serif';
     ctx.fillStyle = '#333';
-    ctx.fillText(this.options.conditions ? this.options.conditions() : '', 10, 40);
+    lines.forEach((line, i) => ctx.fillText(line, 10, 40 + 16 * i));
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.drawImage(src, 0, head);
     ctx.scale(dpr, dpr);

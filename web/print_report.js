@@ -11,12 +11,14 @@ export function printButton(id) {
 }
 
 // The scheme in a few words (lab units), then whole as JSON in small print.
+const tidy = v => (typeof v === 'number' ? Number(v.toPrecision(10)) : v); // 8.899999999 -> 8.9
+
 function schemeFacts(s) {
   if (!s) return [];
   const l = s.loading || {}, sp = s.specimen || {};
-  const facts = [s.name && `scheme "${s.name}"`, l.confining_pressure_kPa != null && `σ3 ${l.confining_pressure_kPa} kPa`,
-    sp.moisture_content_pct != null && `w ${sp.moisture_content_pct} %`,
-    sp.diameter_mm != null && `specimen ${sp.diameter_mm} × ${sp.height_mm} mm`,
+  const facts = [s.name && `scheme "${s.name}"`, l.confining_pressure_kPa != null && `σ3 ${tidy(l.confining_pressure_kPa)} kPa`,
+    sp.moisture_content_pct != null && `w ${tidy(sp.moisture_content_pct)} %`,
+    sp.diameter_mm != null && `specimen ${tidy(sp.diameter_mm)} × ${tidy(sp.height_mm)} mm`,
     l.stress_levels?.length && `stress levels ${l.stress_levels.join('/')}`,
     l.stage_durations_min?.length && `stage durations ${l.stage_durations_min.join('/')} min (model time)`,
     s.max_particles != null && `max ${s.max_particles} grains`, s.seed != null && `seed ${s.seed}`].filter(Boolean);
