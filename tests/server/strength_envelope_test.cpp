@@ -2,6 +2,8 @@
 // at the peak and the Mohr-Coulomb fit, checked against numbers worked out by hand.
 #include "server/io/strength_envelope_json.hpp"
 
+#include "server/io/diagnosis_json.hpp"
+
 #include <catch2/catch.hpp>
 
 using namespace triax;
@@ -61,4 +63,16 @@ TEST_CASE("no shear curve with deviator readings: no circle, no fit", "[server][
     CHECK(e["circles"].empty());
     CHECK(e["friction_angle_deg"].is_null());
     CHECK(e["p_q_line"].is_null());
+}
+
+TEST_CASE("a diagnosis report carries the envelope of its base and final model curves", "[server][envelope]") {
+    diagnose::DiagnosisReport r;
+    r.chosen_effect = "none";
+    r.base_curves.curves = {shear_curve(50, 150), shear_curve(100, 260)};
+    r.final_curves.curves = {shear_curve(50, 211.34790168597993), shear_curve(100, 345.85651829311325)};
+    const auto j = io::diagnosis_report_to_json(r);
+    REQUIRE(j.contains("strength_envelope"));
+    CHECK(j["strength_envelope"]["base"] == io::strength_envelope_json(r.base_curves));
+    CHECK(j["strength_envelope"]["final"]["friction_angle_deg"].get<double>() == Approx(35.0).margin(1e-9));
+    CHECK(j["strength_envelope"]["final"]["cohesion_kPa"].get<double>() == Approx(20.0).margin(1e-9));
 }

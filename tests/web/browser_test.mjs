@@ -265,6 +265,26 @@ try {
   const unnamedNew = await unnamedControls(page);
   check(unnamedNew.length === 0, `every control of the new-run page has an accessible name (${unnamedNew.join(', ')})`);
   await bothWidths(page, '01_new_run');
+  // On a phone the header scrolls away and the Submit bar stays small; a field reached by
+  // Tab is never left under the bar.
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.waitForTimeout(150);
+  const phone = await page.evaluate(() => ({ header: getComputedStyle(document.querySelector('header')).position,
+    bar: document.querySelector('.submit-row').getBoundingClientRect().height }));
+  await page.focus('#presets button.preset >> nth=0');
+  let hiddenByBar = 0, tabbed = 0;
+  for (; tabbed < 25; tabbed++) {
+    await page.keyboard.press('Tab');
+    hiddenByBar += await page.evaluate(() => {
+      const a = document.activeElement, bar = document.querySelector('.submit-row');
+      if (!a || bar.contains(a)) return 0;
+      const r = a.getBoundingClientRect(), b = bar.getBoundingClientRect();
+      return r.bottom > b.top + 1 ? 1 : 0;
+    });
+  }
+  await page.setViewportSize({ width: 1440, height: 900 });
+  check(phone.header !== 'sticky' && phone.bar < 0.35 * 844 && hiddenByBar === 0,
+    `phone: the header scrolls away (${phone.header}), the Submit bar takes ${Math.round(phone.bar)} of 844 px, no field of ${tabbed} Tab stops hides under it (${hiddenByBar})`);
 
   const [badPointer, badValue] = INVALID.map(([re, v]) => [pointers.find(p => re.test(p)), v]).find(([p]) => p) || [];
   check(!!badPointer, `a field to make invalid exists (${badPointer})`);
