@@ -11,7 +11,7 @@
 
 import { el, getAll, getJSON, moreButton, PAGE, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
 import { Chart, downloadBlob } from './chart.js';
-import { drawMohr, envelopeTable, kpaText, mohrChart } from './envelope.js';
+import { drawMohr, drawPq, envelopeTable, kpaText, mohrChart, pqChart } from './envelope.js';
 import { printButton, printHeader } from './print_report.js';
 
 const CONTENT_TYPES = { json: 'application/json', csv: 'text/csv', gds: 'text/csv', ags: 'text/plain' };
@@ -89,6 +89,8 @@ export class CompareView {
     this.overlay = new Chart(grid, { id: 'plot-overlay', title: 'Model vs lab', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'overlay', conditions });
     this.residual = new Chart(grid, { id: 'plot-residual', title: 'Residual (model − lab)', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'residual', conditions });
     this.mohr = mohrChart(envelopeGrid, 'comparison-mohr', [], conditions);
+    this.pq = pqChart(envelopeGrid, 'comparison-pq', [], conditions);
+    for (const c of [this.mohr, this.pq]) c.setEmptyText('compare a run with a dataset to see both envelopes');
     this.conditions = conditions;
 
     upload.classList.add('print-hide');
@@ -186,6 +188,7 @@ export class CompareView {
       const sets = [{ label: `lab #${dataset_id}`, envelope: labEnvelope }, { label: `run #${run_id}`, envelope: runEnvelope, dash: [6, 4] }];
       this.envelopeBox.replaceChildren(envelopeTable('comparison-envelope-table', sets));
       drawMohr(this.mohr, sets);
+      drawPq(this.pq, sets);
     } catch (e) { this.compareError.textContent = e.message; }
   }
 

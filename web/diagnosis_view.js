@@ -10,7 +10,7 @@
 
 import { el, getAll, getJSON, postJSON, progressElement, progressEta } from './api.js';
 import { renderDiagnosisCurves } from './diagnosis_curves.js';
-import { envelopeTable, envelopeText, mohrChart } from './envelope.js';
+import { envelopeTable, envelopeText, mohrChart, pqChart } from './envelope.js';
 import { printButton, printHeader } from './print_report.js';
 
 // Five significant digits; very large or small magnitudes as 1.2e+8.
@@ -474,7 +474,7 @@ export class DiagnosisView {
     else this.envelopeBox.replaceChildren(envelopeTable('diagnosis-envelope-table', sets));
     const grid = el('div', { class: 'plot-grid' });
     this.envelopeBox.append(grid);
-    this.charts.push(mohrChart(grid, 'diagnosis-mohr', sets, conditions));
+    this.charts.push(mohrChart(grid, 'diagnosis-mohr', sets, conditions), pqChart(grid, 'diagnosis-pq', sets, conditions));
   }
 
   rerun(d) {

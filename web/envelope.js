@@ -70,3 +70,28 @@ export function drawMohr(chart, sets) {
   });
   chart.root.dataset.circles = String(sets.reduce((n, s) => n + (s.envelope?.circles?.length || 0), 0));
 }
+
+// The peaks in p'-q (p' = σ3 + q/3 at failure) and each source's Mohr-Coulomb line there,
+// q = M p' + k (the API's p_q_line), on one plot.
+export function pqChart(container, id, sets, conditions) {
+  const chart = new Chart(container, { id, title: "Failure in p'-q and the Mohr-Coulomb line", xLabel: "p' (kPa)", yLabel: 'q (kPa)',
+    yFromZero: true, height: 300, fileName: id, conditions });
+  drawPq(chart, sets);
+  return chart;
+}
+
+export function drawPq(chart, sets) {
+  chart.clear();
+  let pMax = 0;
+  for (const s of sets) for (const c of s.envelope?.circles || []) pMax = Math.max(pMax, c.p_kPa);
+  sets.forEach((s, k) => {
+    const e = s.envelope, color = COLORS[k % COLORS.length];
+    if (!e?.circles?.length) return;
+    chart.setSeries(`${s.label} failure (p', q)`, e.circles.map(c => [c.p_kPa, c.q_peak_kPa]), { style: 'points', color });
+    if (e.p_q_line) {
+      const x1 = pMax * 1.15;
+      chart.setSeries(`${s.label} line q = ${e.p_q_line.slope.toFixed(3)} p' + ${e.p_q_line.intercept_kPa.toFixed(1)} kPa`,
+        [[0, e.p_q_line.intercept_kPa], [x1, e.p_q_line.intercept_kPa + e.p_q_line.slope * x1]], { color, dash: s.dash || [8, 3] });
+    }
+  });
+}

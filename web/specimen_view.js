@@ -223,6 +223,10 @@ export class SpecimenView {
     this.info.textContent = `snapshot ${s.stage}: ${grains.length} grains, ${membrane.length} membrane particles, ` +
       `${f.length} contacts (${this.chainCount} strong, normal force > mean + 1 sd = ${cut.toFixed(1)} N), ` +
       `${(s.measurement_spheres || []).length} measurement spheres`;
+    // Crushed grains are named in words: "colour by crushed" is one click away, a count is not.
+    const crushed = grains.filter(i => p.crushed?.[i]).length;
+    this.info.append(el('span', { id: 'specimen-crushed' }, crushed ? ` · ${crushed} of ${grains.length} grains crushed` : ' · no grain crushed'));
+    this.container.dataset.crushed = String(crushed);
     this.container.dataset.grains = String(grains.length);
   }
 

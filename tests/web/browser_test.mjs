@@ -521,6 +521,13 @@ try {
     const snapJson = await (await fetch(new URL(href.replace('format=vtk', 'format=json'), base))).json();
     check(/^# vtk DataFile Version/.test(vtk) && vtkPoints === snapJson.particles.x_mm.length,
       `the VTK download is legacy VTK with every particle as a point (${vtkPoints} points, ${snapJson.particles.x_mm.length} in the JSON)`);
+    // The note on crushed grains counts the shown snapshot's crushed flags (soil grains only).
+    const shownStage = await page.$eval('#specimen-card', c => c.specimen.snap.stage);
+    const shownSnap = await (await fetch(`${base}/runs/${runId}/snapshots/${shownStage}?format=json`)).json();
+    const soil = Object.entries(shownSnap.groups || {}).find(([, n]) => /grain|soil/i.test(n))?.[0] ?? '0';
+    const crushedApi = shownSnap.particles.group.filter((g, i) => String(g) === soil && shownSnap.particles.crushed?.[i]).length;
+    const crushedNote = await page.textContent('#specimen-crushed').catch(() => '');
+    check(crushedApi ? crushedNote.includes(`${crushedApi} of`) : /no grain crushed/.test(crushedNote), `the 3D view says how many grains crushed (${crushedNote.trim()}; snapshot ${shownStage}: ${crushedApi})`);
     await page.locator('#specimen-card').scrollIntoViewIfNeeded();
     await page.screenshot({ path: path.join(shots, '03b_specimen_3d_1440.png') });
   }
@@ -673,6 +680,17 @@ try {
   check(envRows[0]?.[0] === '20.0' && envRows[0]?.[1] === '35.0' && mohr.circles === 4 &&
     radii.every((r, i) => Math.abs(mohr.top[i] - r) < 1e-9 * r),
     `the page shows the lab's c' ${envRows[0]?.[0]} kPa and φ' ${envRows[0]?.[1]}° and draws ${mohr.circles} Mohr circles of the API's radii`);
+  // The same envelope in p'-q: the peaks at (σ3 + q/3, q) and q = M p' + k from the API,
+  // M = 6 sin φ' / (3 - sin φ') by hand.
+  const pqSeries = await page.$eval('#comparison-pq', f => [...f.chart.series.values()].map(s => ({ name: s.name, points: s.points })));
+  const labLine = pqSeries.find(x => /^lab #\d+ line q =/.test(x.name)), labPeaks = pqSeries.find(x => /^lab #\d+ failure/.test(x.name));
+  const sin35 = Math.sin(35 * Math.PI / 180), mHand = 6 * sin35 / (3 - sin35), kHand = 6 * 20 * Math.cos(35 * Math.PI / 180) / (3 - sin35);
+  const [px, py] = labLine?.points[1] || [];
+  check(Math.abs(envApi.p_q_line.slope - mHand) < 1e-6 && Math.abs(envApi.p_q_line.intercept_kPa - kHand) < 1e-4 &&
+    Math.abs(py - (envApi.p_q_line.intercept_kPa + envApi.p_q_line.slope * px)) < 1e-9 * py &&
+    labPeaks?.points.every((p, i) => Math.abs(p[0] - (set3[i] + (mcSigma1(set3[i], 20, 35) - set3[i]) / 3)) < 1e-4),
+    `the lab's Mohr-Coulomb line in p'-q: M ${envApi.p_q_line.slope.toFixed(4)} (hand ${mHand.toFixed(4)}), k ${envApi.p_q_line.intercept_kPa.toFixed(2)} kPa (hand ${kHand.toFixed(2)}), drawn as "${labLine?.name}"`);
+  await page.locator('#comparison-result').screenshot({ path: path.join(shots, '05c_comparison_result_element_1440.png') });
   await bothWidths(page, '05b_comparison_three_sigma3');
   await printCheck(page, '05b_comparison_report', ['.print-header', '#metrics-table', '#comparison-mohr'], ['#upload-button', '#dataset-table', 'nav', '#comparison-print']);
   // A σ3 chosen explicitly: the lab curve at σ3/2, with a warning in lab writing.
@@ -836,6 +854,13 @@ try {
     `wording: a step that kept nothing says so ("${stepTwo}"), crushability 0 reads "${crushRow.slice(0, 2).join(' = ')}"`);
   check(/membrane_compliance/.test(afterTitle), `the "after" title names the artefact kept as a correction too (${afterTitle})`);
   await bothWidths(page, '07_diagnosis_report');
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.waitForTimeout(200);
+  await page.locator(`#diagnosis-q-${runSigma3}`).screenshot({ path: path.join(shots, '07c_diagnosis_q_panel_390.png') });
+  await page.locator('#diagnosis-envelope').screenshot({ path: path.join(shots, '07c_diagnosis_envelope_390.png') });
+  await page.setViewportSize({ width: 1440, height: 900 });
+  await page.waitForTimeout(200);
+  await page.locator('#diagnosis-envelope').screenshot({ path: path.join(shots, '07c_diagnosis_envelope_1440.png') });
   await printCheck(page, '07_diagnosis_report', ['.print-header', '#diagnosis-plain-verdict', `#diagnosis-q-${runSigma3}`, '#diagnosis-envelope-table'],
     ['#diagnose-button', '#diagnoses-table', 'nav', '#diagnosis-print']);
   const fallbackLine = await page.textContent('#diagnosis-model-scheme');
@@ -892,6 +917,21 @@ try {
     ranScheme.micro?.friction === 0.37 && ranScheme.loading?.stress_levels?.length === 1 && ranScheme.name === 'tiny (calibrated, 200 kPa)',
     `"run with these parameters" posts the calibrated model's scheme at the σ3 picked (run #${modelRun}: ${ranScheme.name}, ${ranScheme.specimen?.lateral_boundary}, σ3 ${ranScheme.loading?.confining_pressure_kPa} kPa)`);
   await page.unrouteAll();
+
+  // ---- 5b. a shear-only run: its creep plots say there is no creep stage -----------------
+  const shearOnly = await tinyScheme(1);
+  shearOnly.loading.stress_levels = [];
+  shearOnly.loading.stage_durations_min = [];
+  const shearRun = (await (await post('/runs', { scheme: shearOnly })).json()).id;
+  for (let t = Date.now(); Date.now() - t < RUN_TIMEOUT_MS;) {
+    if (['done', 'failed', 'cancelled'].includes((await (await fetch(`${base}/runs/${shearRun}`)).json()).status)) break;
+    await new Promise(r => setTimeout(r, 500));
+  }
+  await page.goto(`${base}/#/runs/${shearRun}`);
+  await page.waitForFunction(() => /no creep stage/.test(document.querySelector('#plot-creep .plot-empty')?.textContent || ''), null, { timeout: 20000 }).catch(() => {});
+  const emptyTexts = await page.$$eval('#plot-creep .plot-empty, #plot-creep-log .plot-empty, #plot-creep-timeline .plot-empty', es => es.map(e => (e.hidden ? '(hidden) ' : '') + e.textContent));
+  check(emptyTexts.length === 3 && emptyTexts.every(t => t === 'no creep stage in this run (shear only)'),
+    `after a shear-only run the creep plots say so (${emptyTexts.join(' | ')})`);
 
   // ---- 6. paged lists: the datasets table shows one page (50) and a "more" control ------
   const tinyCsv = 'confining_kPa,axial_strain_pct,q_kPa\n100,0.5,80\n100,1,120\n';
