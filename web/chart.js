@@ -158,7 +158,10 @@ export class Chart {
     this.root.dataset.visible = '0';
     this.pending = false;
     this.resizeObserver = new ResizeObserver(() => {
-      if (this.u) this.u.setSize(this.size());
+      if (!this.u) return;
+      this.u.setSize(this.size());
+      // Equal scales hold at the new width only if y is ranged again.
+      if (this.options.equalAspect) this.u.setData(this.u.data, true);
     });
     this.resizeObserver.observe(this.body);
   }

@@ -104,6 +104,20 @@ const viewerPixels = page => page.evaluate(async () => {
   return { ok: true, share: coloured / (px.length / 4), ms: (performance.now() - t0) / 2, grains: Number(card.dataset.grains), chains: v.chainCount };
 });
 
+// Share of drawn pixels of the 3D canvas as it stands (no camera move).
+const drawnShare = page => page.evaluate(() => {
+  const v = document.querySelector('#specimen-card').specimen, c = v.renderer.domElement;
+  v.renderer.render(v.scene, v.camera);
+  const probe = document.createElement('canvas');
+  probe.width = c.width; probe.height = c.height;
+  const ctx = probe.getContext('2d');
+  ctx.drawImage(c, 0, 0);
+  const px = ctx.getImageData(0, 0, c.width, c.height).data;
+  let coloured = 0;
+  for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) coloured++;
+  return coloured / (px.length / 4);
+});
+
 let failures = 0;
 const log = (...a) => console.log('[browser-test]', ...a);
 function check(cond, what) {
@@ -528,6 +542,26 @@ try {
     const crushedApi = shownSnap.particles.group.filter((g, i) => String(g) === soil && shownSnap.particles.crushed?.[i]).length;
     const crushedNote = await page.textContent('#specimen-crushed').catch(() => '');
     check(crushedApi ? crushedNote.includes(`${crushedApi} of`) : /no grain crushed/.test(crushedNote), `the 3D view says how many grains crushed (${crushedNote.trim()}; snapshot ${shownStage}: ${crushedApi})`);
+    // Platens at the grains' bottom and top, the axis triad, a scale bar of a round length
+    // near a quarter of the diameter, and a cut plane that hides the front half.
+    const sp = shownSnap.particles, soilIdx = sp.group.map((g, i) => (String(g) === soil ? i : -1)).filter(i => i >= 0);
+    const zBottom = Math.min(...soilIdx.map(i => sp.z_mm[i] - sp.radius_mm[i])), zTop = Math.max(...soilIdx.map(i => sp.z_mm[i] + sp.radius_mm[i]));
+    const frame = await page.evaluate(() => { const v = document.querySelector('#specimen-card').specimen;
+      const named = n => v.scene.getObjectByName(n);
+      return { bottom: named('bottom platen')?.position.y, top: named('top platen')?.position.y, thick: named('top platen')?.geometry.parameters.height,
+        arrows: v.objects.flatMap(o => o.children || []).filter(c => c.type === 'ArrowHelper').length, scale: v.scaleMm,
+        legend: document.querySelector('#specimen-frame-legend')?.textContent || '' }; });
+    check(Math.abs(frame.bottom + frame.thick / 2 - zBottom) < 1e-6 && Math.abs(frame.top - frame.thick / 2 - zTop) < 1e-6 && frame.arrows === 3 &&
+      [1, 2, 5].some(m => Math.abs(frame.scale / 10 ** Math.floor(Math.log10(frame.scale)) - m) < 1e-9) && frame.legend.includes(`scale bar ${frame.scale} mm`) && /force chains/.test(frame.legend),
+      `the 3D view draws the platens at the grains' ends (${zBottom.toFixed(1)}, ${zTop.toFixed(1)} mm), an axis triad and a ${frame.scale} mm scale bar (${frame.legend.trim()})`);
+    const uncut = await drawnShare(page);
+    await page.click('#specimen-cut');
+    const cutShare = await drawnShare(page);
+    const planes = await page.evaluate(() => document.querySelector('#specimen-card').specimen.renderer.clippingPlanes.length);
+    await page.locator('#specimen-card').screenshot({ path: path.join(shots, '03c_specimen_cut_1440.png') });
+    await page.click('#specimen-cut');
+    const back = await drawnShare(page);
+    check(planes === 1 && cutShare !== uncut && Math.abs(back - uncut) < 1e-9, `the cut plane clips the view and gives it back (${(100 * uncut).toFixed(2)} % -> ${(100 * cutShare).toFixed(2)} % -> ${(100 * back).toFixed(2)} % of pixels drawn)`);
     await page.locator('#specimen-card').scrollIntoViewIfNeeded();
     await page.screenshot({ path: path.join(shots, '03b_specimen_3d_1440.png') });
   }
@@ -858,8 +892,14 @@ try {
   await page.waitForTimeout(200);
   await page.locator(`#diagnosis-q-${runSigma3}`).screenshot({ path: path.join(shots, '07c_diagnosis_q_panel_390.png') });
   await page.locator('#diagnosis-envelope').screenshot({ path: path.join(shots, '07c_diagnosis_envelope_390.png') });
+  // Mohr circles are circles: as many kPa per pixel on τ as on σ', at either width.
+  const aspect = () => page.$eval('#diagnosis-mohr', f => { const u = f.chart.u, x = u.scales.x, y = u.scales.y;
+    return ((y.max - y.min) / u.bbox.height) / ((x.max - x.min) / u.bbox.width); });
+  const aspect390 = await aspect();
   await page.setViewportSize({ width: 1440, height: 900 });
   await page.waitForTimeout(200);
+  const aspect1440 = await aspect();
+  check(Math.abs(aspect390 - 1) < 0.15 && Math.abs(aspect1440 - 1) < 0.15, `the Mohr plot keeps equal scales (kPa/px on τ over σ': ${aspect390.toFixed(3)} at 390 px, ${aspect1440.toFixed(3)} at 1440 px)`);
   await page.locator('#diagnosis-envelope').screenshot({ path: path.join(shots, '07c_diagnosis_envelope_1440.png') });
   await printCheck(page, '07_diagnosis_report', ['.print-header', '#diagnosis-plain-verdict', `#diagnosis-q-${runSigma3}`, '#diagnosis-envelope-table'],
     ['#diagnose-button', '#diagnoses-table', 'nav', '#diagnosis-print']);
