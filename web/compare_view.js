@@ -183,13 +183,14 @@ export class CompareView {
       this.model = { ss, vol, creep };
       this.dataset = dataset;
       this.show(comparison);
-      const scheme = run.scheme_id != null ? (await getJSON(`/schemes/${run.scheme_id}`).catch(() => null))?.scheme : null;
-      this.printHead.replaceChildren(printHeader(`Comparison #${comparison.id}: run #${run_id} ${run.name || ''} vs dataset #${dataset_id} ${dataset.name || ''}`,
-        this.conditions(), scheme));
       const sets = [{ label: `lab #${dataset_id}`, envelope: labEnvelope }, { label: `run #${run_id}`, envelope: runEnvelope, dash: [6, 4] }];
       this.envelopeBox.replaceChildren(envelopeTable('comparison-envelope-table', sets));
       drawMohr(this.mohr, sets);
       drawPq(this.pq, sets);
+      const title = `Comparison #${comparison.id}: run #${run_id} ${run.name || ''} vs dataset #${dataset_id} ${dataset.name || ''}`;
+      this.printHead.replaceChildren(printHeader(title, this.conditions(), null));
+      const scheme = run.scheme_id != null ? (await getJSON(`/schemes/${run.scheme_id}`).catch(() => null))?.scheme : null;
+      if (scheme && this.comparison === comparison) this.printHead.replaceChildren(printHeader(title, this.conditions(), scheme));
     } catch (e) { this.compareError.textContent = e.message; }
   }
 

@@ -24,9 +24,10 @@ export function specimenFrame(THREE, { zmin, zmax, rmax }) {
   const len = 0.45 * rmax, origin = new THREE.Vector3(-1.35 * rmax, zmin, 1.35 * rmax);
   for (const [dir, color] of [[[1, 0, 0], 0xc0392b], [[0, 0, 1], 0x2e8b57], [[0, 1, 0], 0x1f5fa8]])
     group.add(new THREE.ArrowHelper(new THREE.Vector3(...dir), origin, len, color, 0.2 * len, 0.1 * len));
-  // Scale bar along x in front of the base, with end ticks.
+  // Scale bar along x in front of the base, with end ticks; on the x < 0 side, which the
+  // cut plane keeps (scaleMm <= rmax / 2, so the bar ends before x = 0).
   const scaleMm = scaleBarLength(2 * rmax);
-  const y = zmin - 2 * thick, zf = 1.35 * rmax, x0 = 0.2 * rmax, tick = 0.06 * rmax;
+  const y = zmin - 2 * thick, zf = 1.35 * rmax, x0 = -0.9 * rmax, tick = 0.06 * rmax;
   const pts = [x0, y, zf, x0 + scaleMm, y, zf, x0, y - tick, zf, x0, y + tick, zf, x0 + scaleMm, y - tick, zf, x0 + scaleMm, y + tick, zf];
   const bar = new THREE.BufferGeometry();
   bar.setAttribute('position', new THREE.Float32BufferAttribute(pts, 3));

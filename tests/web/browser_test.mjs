@@ -684,7 +684,7 @@ try {
     // The page shows the new comparison (its id above the previous one), not the last.
     await page.waitForFunction(([id, prev]) => { const m = (document.querySelector('#comparison-match')?.textContent || '').match(/^comparison #(\d+):.*dataset #(\d+)/);
       return m && Number(m[1]) > prev && Number(m[2]) === id; }, [three.id, before], { timeout: 30000 }).catch(() => {});
-    await page.waitForSelector('#comparison-envelope-table tr:nth-child(3)', { timeout: 15000 }).catch(() => {});
+    await page.waitForSelector(`#comparison-envelope-table tr[data-source="lab #${three.id}"]`, { timeout: 15000 }).catch(() => {});
     const list = (await (await fetch(`${base}/comparisons?limit=1`)).json()).comparisons[0];
     const stored = await (await fetch(`${base}/comparisons/${list.id}`)).json();
     return {
