@@ -221,6 +221,7 @@ void Service::register_routes() {
     register_result_routes(*this);
     register_dataset_routes(*this);
     register_comparison_routes(*this);
+    register_envelope_routes(*this);
     register_diagnosis_routes(*this);
     register_estimate_routes(*this);
     register_snapshot_routes(*this);

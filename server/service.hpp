@@ -140,6 +140,7 @@ void register_run_routes(Service& s);
 void register_result_routes(Service& s);
 void register_dataset_routes(Service& s);
 void register_comparison_routes(Service& s);
+void register_envelope_routes(Service& s);
 void register_diagnosis_routes(Service& s);
 // Start-up: fills datasets.header_json for rows stored without it; returns how many.
 int backfill_dataset_headers(Service& s);

@@ -70,6 +70,21 @@ export function formatEta(seconds) {
   return h ? `${h} h ${m} min` : `${m} min ${s} s`;
 }
 
+// ETA (s) of work whose service reports no ETA (a diagnosis), from its progress as this
+// page sees it: the mean rate since the page first saw it (a rate over the last sample
+// swings with each step of uneven work: 12, 19, then 1.3 min). One estimate per key for
+// the whole page, so the header's activity line and the view say the same. null until
+// 5 s and 0.5 % have passed.
+const progressSeen = new Map();
+export function progressEta(key, pct) {
+  const now = performance.now() / 1000, p = Number(pct);
+  if (!Number.isFinite(p)) return null;
+  const first = progressSeen.get(key);
+  if (!first || p < first.p0) { progressSeen.set(key, { t0: now, p0: p }); return null; }
+  const dp = p - first.p0, dt = now - first.t0;
+  return dp > 0.5 && dt > 5 ? (100 - p) * dt / dp : null;
+}
+
 // A progress cell used everywhere long work appears: stage, bar with %, ETA.
 export function progressElement(stage, pct, eta) {
   const wrap = document.createElement('span');

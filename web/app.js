@@ -2,7 +2,7 @@
 // form, the runs list and the activity line in the header that shows every active run's
 // stage, progress and ETA wherever the user is on the page.
 
-import { el, getJSON, getList, moreButton, PAGE, postJSON, ProblemError, progressElement } from './api.js';
+import { el, getJSON, getList, moreButton, PAGE, postJSON, ProblemError, progressElement, progressEta } from './api.js';
 import { SchemeForm } from './scheme_form.js';
 import { RunView } from './run_view.js';
 import { CompareView } from './compare_view.js';
@@ -34,7 +34,7 @@ function presetCard(p, onpick) {
     el('span', { class: 'preset-name' }, `Group ${p.name}`),
     el('span', { class: 'preset-facts' }, `σ3 = ${tidy(sigma3)} kPa · w = ${tidy(w)} %`),
     el('span', { class: 'preset-role' }, GROUP_ROLE[p.name] || p.description || ''),
-    el('span', { class: 'hint' }, `S = ${levels}${days ? ` · ${Number(days.toFixed(1))} days of creep` : ''}`));
+    el('span', { class: 'hint' }, `S = ${levels}${days ? ` · ${Number(days.toFixed(1))} days of creep (model time)` : ''}`));
 }
 
 const tidy = v => (typeof v === 'number' ? Number(v.toPrecision(10)) : v);
@@ -68,7 +68,10 @@ async function showNewRun() {
         'spheres inside a rubber-like membrane, consolidates it to the confining pressure σ3, shears it to find the ' +
         'peak deviator stress q_f, then loads a second, identical specimen in stages of q = S · q_f and lets each ' +
         'stage creep for its duration. You see q, volumetric strain and creep deformation grow live, can overlay ' +
-        'your lab readings, compare them with the model and ask which test effect explains the difference.')),
+        'your lab readings, compare them with the model and ask which test effect explains the difference.'),
+      el('p', { class: 'hint', id: 'paper-note' }, 'The presets are the groups of Table 2 of "Triaxial Creep Test and Particle Flow Simulation of ' +
+        'Coarse-Grained Soil Embankment Filler". Creep durations ("10 days of creep") are model time: the simulated ' +
+        'physical time of the creep law, reached in minutes of computing, not days.')),
     el('h3', {}, 'Start from a test of the paper'), presetBox,
     el('h3', {}, 'Your test'),
     el('p', { class: 'hint' }, 'Units are in the labels, limits under each field. Compression is positive.'),
@@ -199,7 +202,7 @@ async function pollActivity() {
       ...runs.filter(isActive).map(r =>
         el('a', { href: `#/runs/${r.id}`, class: 'activity-item' }, `run #${r.id} ${r.status} `, progressElement(r.stage, r.progress_pct, r.eta_s))),
       ...(diagnoses || []).filter(isActive).map(d =>
-        el('a', { href: '#/diagnose', class: 'activity-item' }, `diagnosis #${d.id} ${d.status} `, progressElement(d.stage, d.progress_pct, d.eta_s))),
+        el('a', { href: '#/diagnose', class: 'activity-item' }, `diagnosis #${d.id} ${d.status} `, progressElement(d.stage, d.progress_pct, d.eta_s ?? progressEta(`diagnosis-${d.id}`, d.progress_pct)))),
     ];
     activity.replaceChildren(...(items.length ? items : [el('span', { class: 'hint' }, 'no active runs or diagnoses')]));
   } catch { activity.replaceChildren(el('span', { class: 'error' }, 'service unreachable')); }

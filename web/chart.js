@@ -14,16 +14,24 @@ import uPlot from '/vendor/uPlot.esm.js';
 const PALETTE = ['#1f5fa8', '#c0392b', '#2e8b57', '#8e44ad', '#d68910', '#17808c', '#7f8c8d', '#b03a7a', '#4d6b00', '#a04000'];
 
 // 1.25×10⁵ rather than 1.25e+5: the form a lab report uses; plain decimals otherwise.
-export function formatTick(v) {
+// `power`: write v in powers of ten whatever its size (one axis in one form: not
+// "50000, 10⁵, 1.5×10⁵" along the same axis).
+export function formatTick(v, power = null) {
   if (v == null || !Number.isFinite(v)) return '';
   if (v === 0) return '0';
   const a = Math.abs(v);
-  if (a >= 1e5 || a < 1e-3) {
+  if (power ?? (a >= 1e5 || a < 1e-3)) {
     const [mant, exp] = Number(v.toPrecision(4)).toExponential().split('e');
     const sup = String(Number(exp)).replace(/[-0-9]/g, c => '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'['-0123456789'.indexOf(c)]);
     return `${mant === '1' ? '' : mant === '-1' ? '-' : mant + '×'}10${sup}`;
   }
   return String(Number(v.toPrecision(6)));
+}
+
+// Every tick of one axis in one form: powers of ten if any tick needs them.
+export function formatTicks(vals) {
+  const power = vals.some(v => v != null && v !== 0 && Number.isFinite(v) && (Math.abs(v) >= 1e5 || Math.abs(v) < 1e-3));
+  return vals.map(v => formatTick(v, power));
 }
 
 const readout = v => (v == null || !Number.isFinite(v) ? '—' : formatTick(Number(v.toPrecision(4))));
@@ -150,12 +158,18 @@ export class Chart {
     this.root.dataset.visible = '0';
     this.pending = false;
     this.resizeObserver = new ResizeObserver(() => {
-      if (this.u) this.u.setSize(this.size());
+      if (!this.u) return;
+      this.u.setSize(this.size());
+      // Equal scales hold at the new width only if y is ranged again.
+      if (this.options.equalAspect) this.u.setData(this.u.data, true);
     });
     this.resizeObserver.observe(this.body);
   }
 
   setTitle(t) { this.options.title = t; this.titleEl.textContent = t; }
+
+  // What the plot says while it has no point ("waiting for data…" by default).
+  setEmptyText(t) { this.empty.textContent = t; }
 
   clear() { this.series.clear(); this.zoomed = false; this.scheduleRender(); }
 
@@ -236,9 +250,17 @@ export class Chart {
       focus: { alpha: 0.35 },
       legend: { live: true },
       scales: {
-        x: { time: false, distr: o.xLog ? 3 : 1 },
+        // equalAspect (Mohr circles): x from 0, y from 0 with as many kPa per pixel as x.
+        x: { time: false, distr: o.xLog ? 3 : 1, ...(o.equalAspect ? { range: (u, min, max) => [0, max > 0 ? max * 1.02 : 1] } : {}) },
         y: {
           range: (u, min, max) => {
+            if (o.equalAspect) {
+              // The plotting area is the figure less the y axis (70 px) and the x axis
+              // (ticks and label, about 56 px); x spans [0, 1.02 x the largest x].
+              const xs = u.data[0], xMax = xs.length ? xs[xs.length - 1] * 1.02 : 1;
+              const w = this.size().width - 80, h = this.options.height - 56;
+              return [0, xMax * h / Math.max(1, w)];
+            }
             if (min == null || max == null) return [0, 1];
             if (o.yFromZero && min >= 0) min = 0;
             if (max - min < 1e-12) { const d = Math.abs(max) * 0.1 || 1; return [min - d, max + d]; }
@@ -248,10 +270,11 @@ export class Chart {
         },
       },
       axes: [
-        { label: o.xLabel || '', values: (u, vals) => vals.map(formatTick), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
+        { label: o.xLabel || '', values: (u, vals) => formatTicks(vals), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
           space: 60, labelSize: 26 },
-        { label: o.yLabel || '', values: (u, vals) => vals.map(formatTick), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
-          size: 62, labelSize: 24 },
+        // size 70, labelSize 28: room for "deformation since stage load (mm)" and 5-digit ticks.
+        { label: o.yLabel || '', values: (u, vals) => formatTicks(vals), grid: { stroke: '#e6e6e6' }, ticks: { stroke: '#999' },
+          size: 70, labelSize: 28, labelFont: '12px system-ui, sans-serif' },
       ],
       series: [
         { label: o.xLabel || 'x', value: (u, v) => readout(v) },
@@ -318,10 +341,20 @@ export class Chart {
     const list = [...this.series.values()].filter((s, i) => this.u.series[i + 1]?.show !== false);
     const cols = Math.max(1, Math.floor(src.width / (dpr * 190)));
     const legendRows = Math.ceil(list.length / cols);
-    const head = 52 * dpr, legend = (legendRows * 18 + 10) * dpr;
+    // The conditions line wrapped at the canvas width (a phone-wide plot cut it off).
+    const measure = document.createElement('canvas').getContext('2d');
+    measure.font = '12px system-ui, sans-serif';
+    const lines = [];
+    for (const word of (this.options.conditions ? this.options.conditions() : '').split(' ')) {
+      const last = lines.length ? lines[lines.length - 1] : null;
+      if (last != null && measure.measureText(`${last} ${word}`).width <= src.width / dpr - 20) lines[lines.length - 1] = `${last} ${word}`;
+      else lines.push(word);
+    }
+    const head = (34 + 16 * Math.max(1, lines.length)) * dpr, legend = (legendRows * 18 + 10) * dpr;
     const out = document.createElement('canvas');
     out.width = src.width;
     out.height = src.height + head + legend;
+    this.root.dataset.pngConditionLines = String(lines.length);
     const ctx = out.getContext('2d');
     ctx.fillStyle = '#fff';
     ctx.fillRect(0, 0, out.width, out.height);
@@ -331,7 +364,7 @@ export class Chart {
     ctx.fillText(this.options.title || '', 10, 20);
     ctx.font = '12px system-ui, sans-serif';
     ctx.fillStyle = '#333';
-    ctx.fillText(this.options.conditions ? this.options.conditions() : '', 10, 40);
+    lines.forEach((line, i) => ctx.fillText(line, 10, 40 + 16 * i));
     ctx.setTransform(1, 0, 0, 1, 0, 0);
     ctx.drawImage(src, 0, head);
     ctx.scale(dpr, dpr);

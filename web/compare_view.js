@@ -4,9 +4,15 @@
 // (GET /datasets/{id}) and the whole model curve (GET /runs/{id}/results/...), not only
 // the compared points: readings outside the model's range are drawn apart and counted.
 // Downloads: the residual table as CSV, each plot as PNG/CSV.
+// A run has one σ3: the service compares it with the dataset's curves at that σ3 (or at
+// the σ3 picked here) and labels every row with its lab curve's sigma3_kPa; the page
+// labels every row, series and picker entry with it. The strength envelope of the dataset
+// and of the run (GET /datasets/{id}/envelope, GET /runs/{id}/envelope) is drawn below.
 
 import { el, getAll, getJSON, moreButton, PAGE, postJSON, postRaw, del, ProblemError, axisLabel } from './api.js';
 import { Chart, downloadBlob } from './chart.js';
+import { drawMohr, drawPq, envelopeTable, kpaText, mohrChart, pqChart } from './envelope.js';
+import { printButton, printHeader } from './print_report.js';
 
 const CONTENT_TYPES = { json: 'application/json', csv: 'text/csv', gds: 'text/csv', ags: 'text/plain' };
 
@@ -19,6 +25,11 @@ function guessFormat(fileName) {
 
 // What the model-vs-lab y axis shows for each compared curve.
 const CURVE_NAMES = { stress_strain: 'q', volumetric: 'volumetric strain', creep: 'axial deformation' };
+
+// The compared curve in a lab engineer's words, with its σ3.
+const CURVE_WORDS = { stress_strain: 'q vs εa', volumetric: 'εv vs εa', creep: 'creep' };
+const curveLabel = c => `σ3 ${kpaText(c.sigma3_kPa)} · ${CURVE_WORDS[c.curve] || c.curve}${c.stage != null ? ' stage ' + c.stage : ''}`;
+const samePressure = (a, b) => Math.abs(a - b) <= 0.02 * Math.max(Math.abs(a), Math.abs(b));
 
 const num = v => (typeof v === 'number' ? Number(v.toPrecision(5)) : v == null ? '—' : String(v));
 
@@ -50,10 +61,13 @@ export class CompareView {
     this.datasetCount = PAGE;
     this.runSelect = el('select', { id: 'compare-run' });
     this.datasetSelect = el('select', { id: 'compare-dataset' });
+    this.sigma3Select = el('select', { id: 'compare-sigma3' });
+    this.datasetSelect.addEventListener('change', () => this.fillSigma3());
     this.compareError = el('div', { class: 'field-error', id: 'comparison-error', role: 'alert' });
-    const pick = el('section', { class: 'card' },
+    const pick = el('section', { class: 'card print-hide' },
       el('h3', {}, 'Compare a finished run with a dataset'),
       el('div', { class: 'row' }, el('label', {}, 'run ', this.runSelect), el('label', {}, 'dataset ', this.datasetSelect),
+        el('label', {}, 'lab σ3 ', this.sigma3Select),
         el('button', { type: 'button', id: 'compare-button', onclick: () => this.compare() }, 'Compare'),
         el('button', { type: 'button', onclick: () => this.refreshLists() }, 'Refresh lists')),
       this.compareError);
@@ -62,17 +76,26 @@ export class CompareView {
     this.curveSelect = el('select', { id: 'comparison-curve' });
     this.curveSelect.addEventListener('change', () => this.showCurve());
     const grid = el('div', { class: 'plot-grid' });
+    this.printHead = el('div');
+    this.envelopeBox = el('div', { id: 'comparison-envelope' });
+    const envelopeGrid = el('div', { class: 'plot-grid' });
     const result = el('section', { class: 'card', id: 'comparison-result' },
-      el('h3', {}, 'Comparison'), this.metrics,
+      el('h3', {}, 'Comparison'), this.printHead, this.metrics,
       el('div', { class: 'row' }, el('label', {}, 'curve ', this.curveSelect),
-        el('button', { type: 'button', id: 'residual-csv', onclick: () => this.downloadResiduals() }, 'Download residuals CSV')),
-      grid);
-    const conditions = () => (this.comparison ? `run #${this.comparison.run_id} vs dataset #${this.comparison.dataset_id}` : '');
+        el('button', { type: 'button', id: 'residual-csv', onclick: () => this.downloadResiduals() }, 'Download residuals CSV'),
+        printButton('comparison-print')),
+      grid, el('h4', {}, 'Strength envelope: lab and run'), this.envelopeBox, envelopeGrid);
+    const conditions = () => (this.comparison ? `run #${this.comparison.run_id} (σ3 ${kpaText(this.comparison.run_sigma3_kPa)}) vs dataset #${this.comparison.dataset_id}` : '');
     this.overlay = new Chart(grid, { id: 'plot-overlay', title: 'Model vs lab', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'overlay', conditions });
     this.residual = new Chart(grid, { id: 'plot-residual', title: 'Residual (model − lab)', xLabel: '', yLabel: '', xLogAllowed: true, fileName: 'residual', conditions });
+    this.mohr = mohrChart(envelopeGrid, 'comparison-mohr', [], conditions);
+    this.pq = pqChart(envelopeGrid, 'comparison-pq', [], conditions);
+    for (const c of [this.mohr, this.pq]) c.setEmptyText('compare a run with a dataset to see both envelopes');
+    this.conditions = conditions;
 
-    this.container.replaceChildren(el('h2', {}, 'Lab readings'), upload,
-      el('section', { class: 'card' }, el('h3', {}, 'Datasets'), this.datasetScroll, this.datasetMore), pick, result);
+    upload.classList.add('print-hide');
+    this.container.replaceChildren(el('h2', { class: 'print-hide' }, 'Lab readings'), upload,
+      el('section', { class: 'card print-hide' }, el('h3', {}, 'Datasets'), this.datasetScroll, this.datasetMore), pick, result);
   }
 
   // Overlapping refreshes (page load, then an upload) must not let the older answer
@@ -92,15 +115,27 @@ export class CompareView {
       this.runSelect.value = keepRun && done.some(r => String(r.id) === keepRun) ? keepRun : done.length ? String(done[0].id) : '';
       this.datasetSelect.replaceChildren(...datasets.map(d => el('option', { value: d.id }, `#${d.id} ${d.name || ''}`)));
       if (keepSet && datasets.some(d => String(d.id) === keepSet)) this.datasetSelect.value = keepSet;
+      this.datasets = datasets;
+      this.fillSigma3();
       this.renderDatasets(shown);
       this.datasetMore.replaceChildren(moreButton('datasets-more', shown.length, total, () => { this.datasetCount += PAGE; this.refreshLists(); }));
     } catch (e) { this.compareError.textContent = e.message; }
   }
 
+  // The σ3 values of the dataset picked: "the run's" (the service matches it) or one of them.
+  fillSigma3() {
+    const d = (this.datasets || []).find(x => String(x.id) === this.datasetSelect.value);
+    const keep = this.sigma3Select.value;
+    const set = [];
+    for (const c of d?.curves || []) if (c.confining_kPa != null && !set.some(p => samePressure(p, c.confining_kPa))) set.push(c.confining_kPa);
+    this.sigma3Select.replaceChildren(el('option', { value: '' }, "the run's σ3"), ...set.map(p => el('option', { value: p }, kpaText(p))));
+    if ([...this.sigma3Select.options].some(o => o.value === keep)) this.sigma3Select.value = keep;
+  }
+
   renderDatasets(datasets) {
-    const curveText = d => (d.curves || []).map(c => `${c.kind}${c.stage != null ? ' ' + c.stage : ''}: ${c.points} pts`).join('; ');
+    const curveText = d => (d.curves || []).map(c => `${c.kind}${c.stage != null ? ' ' + c.stage : ''} at σ3 ${kpaText(c.confining_kPa)}: ${c.points} pts`).join('; ');
     this.datasetTable.replaceChildren(
-      el('tr', {}, ['id', 'name', 'curves', ''].map(h => el('th', {}, h))),
+      el('tr', {}, ['id', 'name', 'curves (kind, stage, σ3: readings)', ''].map(h => el('th', {}, h))),
       ...datasets.map(d => el('tr', {}, el('td', {}, d.id), el('td', {}, d.name || ''), el('td', {}, curveText(d)),
         el('td', {}, el('button', { type: 'button', 'aria-label': `delete dataset #${d.id} ${d.name || ''}`.trim(), onclick: async () => { await del(`/datasets/${d.id}`); this.refreshLists(); } }, 'delete')))));
   }
@@ -136,14 +171,26 @@ export class CompareView {
     const run_id = Number(this.runSelect.value), dataset_id = Number(this.datasetSelect.value);
     if (!run_id || !dataset_id) { this.compareError.textContent = 'pick a run and a dataset'; return; }
     try {
-      const comparison = await postJSON('/comparisons', { run_id, dataset_id });
+      const body = { run_id, dataset_id };
+      if (this.sigma3Select.value) body.sigma3_kPa = Number(this.sigma3Select.value);
+      const comparison = await postJSON('/comparisons', body);
       // The whole curves behind the metrics: the run's series and the dataset's readings.
-      const [ss, vol, creep, dataset] = await Promise.all([
+      const [ss, vol, creep, dataset, labEnvelope, runEnvelope, run] = await Promise.all([
         getJSON(`/runs/${run_id}/results/stress-strain`), getJSON(`/runs/${run_id}/results/volumetric`),
-        getJSON(`/runs/${run_id}/results/creep`), getJSON(`/datasets/${dataset_id}`)]);
+        getJSON(`/runs/${run_id}/results/creep`), getJSON(`/datasets/${dataset_id}`),
+        getJSON(`/datasets/${dataset_id}/envelope`).catch(() => null), getJSON(`/runs/${run_id}/envelope`).catch(() => null),
+        getJSON(`/runs/${run_id}`)]);
       this.model = { ss, vol, creep };
       this.dataset = dataset;
       this.show(comparison);
+      const sets = [{ label: `lab #${dataset_id}`, envelope: labEnvelope }, { label: `run #${run_id}`, envelope: runEnvelope, dash: [6, 4] }];
+      this.envelopeBox.replaceChildren(envelopeTable('comparison-envelope-table', sets));
+      drawMohr(this.mohr, sets);
+      drawPq(this.pq, sets);
+      const title = `Comparison #${comparison.id}: run #${run_id} ${run.name || ''} vs dataset #${dataset_id} ${dataset.name || ''}`;
+      this.printHead.replaceChildren(printHeader(title, this.conditions(), null));
+      const scheme = run.scheme_id != null ? (await getJSON(`/schemes/${run.scheme_id}`).catch(() => null))?.scheme : null;
+      if (scheme && this.comparison === comparison) this.printHead.replaceChildren(printHeader(title, this.conditions(), scheme));
     } catch (e) { this.compareError.textContent = e.message; }
   }
 
@@ -153,19 +200,20 @@ export class CompareView {
     // RMSE and max error carry the curve's unit in the cell; NRMSE is relative to the lab
     // range. Lab readings outside the model's range are not compared: `dropped` says how many.
     const withUnit = (c, k) => (typeof c[k] === 'number' ? `${num(c[k])}${c.unit ? ' ' + c.unit : ''}` : num(c[k]));
-    const cols = [['curve', c => c.curve], ['stage', c => num(c.stage)], ['readings compared', c => num(c.n)],
+    const cols = [['σ3 (kPa)', c => num(c.sigma3_kPa)], ['curve', c => c.curve], ['stage', c => num(c.stage)], ['readings compared', c => num(c.n)],
       ['outside the model range (drawn, not compared)', c => num(c.dropped)], ['RMSE', c => withUnit(c, 'rmse')],
       ['NRMSE (of the lab range)', c => num(c.nrmse)], ['R²', c => num(c.r2)], ['max |error|', c => withUnit(c, 'max_error')]];
     const notes = [...(comparison.warnings || []).map(w => `warning: ${w}`),
-      ...(comparison.skipped || []).map(k => `not compared: ${k.curve}${k.stage != null ? ' stage ' + k.stage : ''}: ${k.reason}`)];
+      ...(comparison.skipped || []).map(k => `not compared: ${k.sigma3_kPa != null ? curveLabel(k) : k.curve + (k.stage != null ? ' stage ' + k.stage : '')}: ${k.reason}`)];
     // replaceChildren would print a null child as the text "null": only nodes go in.
     this.metrics.replaceChildren(...[
-      el('p', { class: 'hint' }, `comparison #${comparison.id}: run #${comparison.run_id} vs dataset #${comparison.dataset_id}`),
+      el('p', { class: 'hint', id: 'comparison-match' }, `comparison #${comparison.id}: run #${comparison.run_id} at σ3 ${kpaText(comparison.run_sigma3_kPa)} vs dataset #${comparison.dataset_id}, ` +
+        (comparison.lab_sigma3_kPa != null ? `its curves at σ3 ${kpaText(comparison.lab_sigma3_kPa)}` : 'all its curves (none at the run\'s σ3)')),
       el('div', { class: 'table-scroll' }, el('table', { class: 'grid', id: 'metrics-table' },
         el('tr', {}, cols.map(([h]) => el('th', {}, h))),
         curves.map(c => el('tr', {}, cols.map(([, f]) => el('td', {}, f(c))))))),
       notes.length ? el('ul', { class: 'error', id: 'comparison-warnings' }, notes.map(n => el('li', {}, n))) : null].filter(Boolean));
-    this.curveSelect.replaceChildren(...curves.map((c, i) => el('option', { value: i }, `${c.curve}${c.stage != null ? ' stage ' + c.stage : ''}`)));
+    this.curveSelect.replaceChildren(...curves.map((c, i) => el('option', { value: i }, curveLabel(c))));
     this.showCurve();
   }
 
@@ -186,6 +234,7 @@ export class CompareView {
     const out = [];
     for (const lc of this.dataset?.data?.curves || []) {
       if (lc.kind !== want || (want === 'creep' && lc.stage !== c.stage)) continue;
+      if (c.sigma3_kPa != null && !samePressure(Number(lc.confining_kPa), c.sigma3_kPa)) continue; // this row's σ3 only
       const xi = lc.columns.indexOf(c.x), yi = lc.columns.indexOf(c.y);
       if (xi < 0 || yi < 0) continue;
       for (const r of lc.rows) if (r[xi] != null && r[yi] != null) out.push([Number(r[xi]), Number(r[yi])]);
@@ -216,22 +265,25 @@ export class CompareView {
     const xs = model.map(p => p[0]);
     const lo = Math.min(...xs), hi = Math.max(...xs);
     const inside = lab.filter(([x]) => x >= lo && x <= hi), outside = lab.filter(([x]) => x < lo || x > hi);
-    this.overlay.setSeries('model', model.length ? model : rows.map(r => [r[0], r[1]]));
-    this.overlay.setSeries('lab', inside.length || !rows.length ? inside : rows.map(r => [r[0], r[2]]), { style: 'points', color: '#c0392b' });
-    if (outside.length) this.overlay.setSeries(`lab outside the model range (${outside.length})`, outside, { style: 'points', color: '#d68910' });
+    const at = kpaText(c.sigma3_kPa);
+    this.overlay.setTitle(`Model vs lab: ${curveLabel(c)}`);
+    this.residual.setTitle(`Residual (model − lab): ${curveLabel(c)}`);
+    this.overlay.setSeries(`model (run at σ3 ${kpaText(this.comparison.run_sigma3_kPa)})`, model.length ? model : rows.map(r => [r[0], r[1]]));
+    this.overlay.setSeries(`lab σ3 ${at}`, inside.length || !rows.length ? inside : rows.map(r => [r[0], r[2]]), { style: 'points', color: '#c0392b' });
+    if (outside.length) this.overlay.setSeries(`lab σ3 ${at} outside the model range (${outside.length})`, outside, { style: 'points', color: '#d68910' });
     this.outsideCount = outside.length;
     this.overlay.root.dataset.outside = String(outside.length);
     this.overlay.root.dataset.lab = String(lab.length);
     this.overlay.root.dataset.model = String(model.length);
-    this.residual.setSeries('model − lab', rows.map(r => [r[0], r[3]]), { style: 'points' });
+    this.residual.setSeries(`model − lab σ3 ${at}`, rows.map(r => [r[0], r[3]]), { style: 'points' });
     this.residual.setSeries('zero', rows.length ? [[rows[0][0], 0], [rows[rows.length - 1][0], 0]] : [], { color: '#999', dash: [4, 4] });
   }
 
   downloadResiduals() {
     if (!this.comparison) return;
-    const lines = ['curve,stage,x_name,x,model,lab,residual,unit'];
+    const lines = ['sigma3_kPa,curve,stage,x_name,x,model,lab,residual,unit'];
     for (const c of this.comparison.curves || []) {
-      for (const r of c.residual || []) lines.push([c.curve, c.stage ?? '', c.x, r[0], r[1], r[2], r[3], c.unit || ''].join(','));
+      for (const r of c.residual || []) lines.push([c.sigma3_kPa ?? '', c.curve, c.stage ?? '', c.x, r[0], r[1], r[2], r[3], c.unit || ''].join(','));
     }
     downloadBlob(new Blob([lines.join('\n') + '\n'], { type: 'text/csv' }), `comparison${this.comparison.id}_residuals.csv`);
   }

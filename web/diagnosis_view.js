@@ -8,7 +8,10 @@
 // it runs: the stream /diagnoses/{id}/events (progress, candidate, done, error) with an ETA
 // from the progress rate, and polling of GET /diagnoses/{id} for the final report.
 
-import { el, getAll, getJSON, postJSON, progressElement } from './api.js';
+import { el, getAll, getJSON, postJSON, progressElement, progressEta } from './api.js';
+import { renderDiagnosisCurves } from './diagnosis_curves.js';
+import { envelopeTable, envelopeText, mohrChart, pqChart } from './envelope.js';
+import { printButton, printHeader } from './print_report.js';
 
 // Five significant digits; very large or small magnitudes as 1.2e+8.
 const sig = v => (v !== 0 && (Math.abs(v) >= 1e6 || Math.abs(v) < 1e-4) ? v.toExponential(4).replace(/\.?0+e/, 'e') : Number(v.toPrecision(5)));
@@ -36,7 +39,9 @@ export const PARAMETERS = {
     apply: (s, v) => { s.specimen ||= {}; s.specimen.compaction_friction_ratio = v; } },
   rolling_friction: { label: 'rolling friction', unit: '–', factor: 1, field: '/micro/rolling_friction',
     apply: (s, v) => { s.micro.rolling_friction = v; s.effects.rolling_resistance = true; s.effects.rolling_friction = v; } },
+  // Crushability 0 means the grains do not crush (no strength at all is not what it says).
   grain_crushability: { label: 'crushing strength (from crushability 0.6 MPa / x)', unit: 'MPa', value: v => (v > 0 ? 0.6 / v : 0), field: '/micro/crushing_strength_MPa',
+    none: { label: 'grain crushing', text: 'none (grains do not crush)' },
     apply: (s, v) => { s.micro.crushing_strength_MPa = v > 0 ? 0.6 / v : 0; } },
   extra_bond_damage_rate: { label: 'bond corrosion scale (1 + x)', unit: '–', value: v => 1 + v, field: '/effects/bond_corrosion_scale',
     apply: (s, v) => { if (v > 0) { s.effects.accelerated_bond_corrosion = true; s.effects.bond_corrosion_scale = 1 + v; } } },
@@ -56,6 +61,7 @@ function membraneModulusKPa(s, km) {
 function labValue(p, scheme) {
   const d = PARAMETERS[p.name];
   if (!d) return { label: p.name.replace(/_/g, ' '), unit: p.unit || '', value: p.value, std: p.std, field: '' };
+  if (d.none && p.value === 0) return { label: d.none.label, unit: '', value: d.none.text, std: null, field: d.field };
   if (d.value) return { label: d.label, unit: d.unit, value: d.value(p.value), std: null, field: d.field };
   if (d.scheme) return { label: d.label, unit: d.unit, value: scheme ? d.scheme(scheme, p.value) : p.value, std: scheme && p.std != null ? d.scheme(scheme, p.std) : null, field: d.field };
   return { label: d.label, unit: d.unit, value: p.value * d.factor, std: p.std != null ? p.std * d.factor : null, field: d.field };
@@ -96,6 +102,35 @@ export function modelSchemeText(s) {
     `seed ${s.seed}`].join(', ');
 }
 
+// Effects and artefacts in a lab engineer's words (engine/diagnose/effect.cpp names).
+const EFFECT_WORDS = { rolling_resistance: 'rolling resistance of the grains', seating_error: 'a seating error of the platens',
+  membrane_compliance: 'membrane compliance', bond_degradation: 'bond degradation', contact_creep_viscosity: 'viscous contact creep',
+  moisture_bonding: 'moisture bonding', grain_crushing: 'grain crushing', seating_strain: 'a seating error of the platens',
+  membrane_stiffness: 'membrane compliance' };
+export const effectWords = e => EFFECT_WORDS[e] || String(e).replace(/_/g, ' ');
+const andList = xs => (xs.length < 2 ? xs.join('') : `${xs.slice(0, -1).join(', ')} and ${xs[xs.length - 1]}`);
+const pct1 = v => `${(100 * v).toFixed(1)} %`;
+
+// What was added on top of the calibrated base model: the kept effects and the test
+// artefacts kept as corrections below the evidence threshold.
+export function keptAdditions(r) {
+  return [...(r.effects || []), ...(r.artefacts_below_threshold || []).filter(a => !(r.effects || []).includes(a))];
+}
+
+// The verdict in one plain sentence, from the report's outcome and numbers (the service's
+// verdict, with every figure, follows it).
+export function plainVerdict(r) {
+  const tol = r.noise_floor?.tolerance_nrmse;
+  const within = tol != null && r.nrmse_after <= tol;
+  const err = `${pct1(r.nrmse_after)} of the lab range${tol != null ? ` (a right model: about ${pct1(tol)})` : ''}`;
+  const kept = keptAdditions(r).map(effectWords);
+  if (r.outcome === 'no_effect_needed' || (!r.outcome && !kept.length && within))
+    return `The calibrated model fits the lab ${within ? 'within' : 'close to'} the noise floor without any extra effect: error ${err}.`;
+  if (r.outcome === 'effect_found' || (!r.outcome && r.chosen_effect && r.chosen_effect !== 'unexplained'))
+    return `The lab curves are explained by the calibrated model with ${andList(kept)}: error ${pct1(r.nrmse_before)} → ${err}.`;
+  return `No effect in the catalog explains the misfit: the model stays ${err} off${kept.length ? `, with ${andList(kept)} helping in part` : ''}.`;
+}
+
 const minutesText = m => (m < 1 ? '< 1 min' : m < 90 ? `${Math.round(m)} min` : `${(m / 60).toFixed(1)} h`);
 const rangeText = (lo, hi) => (minutesText(lo) === minutesText(hi) ? minutesText(lo) : `${minutesText(lo)} – ${minutesText(hi)}`);
 
@@ -130,8 +165,8 @@ export class DiagnosisView {
     this.report = el('div', { id: 'diagnosis-report' });
     this.list = el('div', { id: 'diagnosis-list' });
     this.container.replaceChildren(
-      el('h2', {}, 'Diagnosis'),
-      el('section', { class: 'card' },
+      el('h2', { class: 'print-hide' }, 'Diagnosis'),
+      el('section', { class: 'card print-hide' },
         el('p', { class: 'hint' }, 'Calibrates the base model to the dataset, then ranks the candidate effects (rolling resistance, grain breakage, seating error, membrane compliance, ...) by their residual signature, fits the best ones as augmented models and keeps one only if it lowers BIC (with an effective number of readings). The scheme is taken from the chosen run. The budget bounds the calibration runs; each candidate costs further DEM runs.'),
         el('div', { class: 'row' },
           el('label', {}, 'dataset ', this.datasetSelect), el('label', {}, 'scheme of run ', this.runSelect)),
@@ -144,9 +179,9 @@ export class DiagnosisView {
         this.cost,
         el('div', { class: 'row' }, el('button', { type: 'button', id: 'diagnose-button', onclick: () => this.start() }, 'Diagnose')),
         this.error),
-      el('section', { class: 'card' }, el('h3', {}, 'Progress'), this.progress, this.candidates),
-      el('section', { class: 'card' }, el('h3', {}, 'Report'), this.report),
-      el('section', { class: 'card' }, el('h3', {}, 'Earlier diagnoses'), this.list));
+      el('section', { class: 'card print-hide' }, el('h3', {}, 'Progress'), this.progress),
+      el('section', { class: 'card' }, el('h3', {}, 'Report'), this.report, this.candidates),
+      el('section', { class: 'card print-hide' }, el('h3', {}, 'Earlier diagnoses'), this.list));
     const recost = () => { this.clearCostData(); clearTimeout(this.costTimer); this.costTimer = setTimeout(() => this.estimateCost(), 300); };
     for (const f of Object.values(this.fields)) f.input.addEventListener('input', recost);
     this.runSelect.addEventListener('change', recost);
@@ -271,13 +306,9 @@ export class DiagnosisView {
     this.poll();
   }
 
-  // ETA from the progress rate seen on this page: the diagnosis's stream has no ETA.
-  eta(pct) {
-    const now = performance.now() / 1000;
-    if (!this.rate) { this.rate = { t0: now, p0: pct }; return null; }
-    const dp = pct - this.rate.p0, dt = now - this.rate.t0;
-    return dp > 0.2 && dt > 2 ? (100 - pct) * dt / dp : null;
-  }
+  // The diagnosis's stream has no ETA: the page's one estimate from its progress (api.js
+  // progressEta), the same the header's activity line shows for it.
+  eta(pct) { return progressEta(`diagnosis-${this.diagnosisId}`, pct); }
 
   renderCandidates(rows) {
     // A candidate not fitted has no NRMSE or BIC: shown as "not fitted", not as 0.
@@ -381,16 +412,24 @@ export class DiagnosisView {
     this.stop();
     const r = d.report;
     const fitted = this.fittedRunInfo(r);
+    const conditions = () => `diagnosis #${d.id} of dataset #${d.dataset_id}${this.scheme?.name ? ' · scheme ' + this.scheme.name : ''}`;
+    this.curvesBox = el('div', { id: 'diagnosis-curves' }, el('p', { class: 'hint' }, 'loading the lab readings…'));
+    this.envelopeBox = el('div', { id: 'diagnosis-envelope' });
     const parts = [
-      el('p', { class: 'verdict', id: 'diagnosis-verdict' }, el('strong', {}, 'Chosen effect: '), String(r.chosen_effect),
+      printHeader(`Diagnosis #${d.id}`, conditions(), this.scheme),
+      el('p', { class: 'verdict', id: 'diagnosis-plain-verdict' }, el('strong', {}, plainVerdict(r))),
+      el('p', { class: 'hint', id: 'diagnosis-verdict' }, el('strong', {}, 'Chosen effect: '), String(r.chosen_effect),
         r.effects?.length > 1 ? ` (effects: ${r.effects.join(', ')})` : '', el('br'), r.verdict || ''),
       el('p', { class: 'hint' }, `pooled NRMSE: calibrated base model ${num(r.nrmse_before)} → with the chosen effects ${num(r.nrmse_after)} · ${num(r.n_readings)} readings, ` +
         `${num(r.n_effective)} effectively independent · ${num(r.runs_used)} DEM runs`),
       el('div', { class: 'row' },
         el('button', { type: 'button', id: 'diagnosis-run-fitted', onclick: () => this.runFitted(r) }, 'Run with these parameters'),
         fitted.picker,
-        el('button', { type: 'button', id: 'diagnosis-rerun', onclick: () => this.rerun(d) }, 'Re-run this diagnosis')),
+        el('button', { type: 'button', id: 'diagnosis-rerun', onclick: () => this.rerun(d) }, 'Re-run this diagnosis'),
+        printButton('diagnosis-print')),
       fitted.line,
+      el('h4', {}, 'Model against lab for every σ3'), this.curvesBox,
+      el('h4', {}, 'Strength envelope: lab, calibrated base and final model'), this.envelopeBox,
     ];
     if (r.error_before?.length || r.error_after?.length) parts.push(this.residualChart(r.error_before, r.error_after));
     // The effects' parameters and the recalibrated base model's: two different sets.
@@ -400,19 +439,42 @@ export class DiagnosisView {
     // lab series' range. "Before" is the base model *after* calibration, with no effect.
     const errCols = ['curve', 'phase', 'n', e => `${num(e.rmse)} ${e.unit || ''}`.trim(), e => num(e.nrmse)];
     const errHeads = ['curve', 'phase', 'readings', 'RMSE (unit of the series)', 'NRMSE (of the lab range)'];
-    const added = r.effects?.length ? r.effects.join(' + ') : 'no effect';
+    // Kept effects and the artefacts kept as corrections are both added to the final model.
+    const added = keptAdditions(r);
+    const afterTitle = added.length ? `Error after adding ${added.join(' + ')} (recalibrated)` : 'Error of the final model (nothing added to the calibrated base)';
     if (r.error_before?.length) parts.push(el('h4', {}, 'Error of the calibrated base model (before any effect is added)'), table('diagnosis-before', errCols, r.error_before, errHeads));
-    if (r.error_after?.length) parts.push(el('h4', {}, `Error after adding ${added} (recalibrated)`), table('diagnosis-after', errCols, r.error_after, errHeads));
+    if (r.error_after?.length) parts.push(el('h4', {}, afterTitle), table('diagnosis-after', errCols, r.error_after, errHeads));
     if (r.delta_bic) {
       parts.push(el('h4', {}, 'ΔBIC (negative favours the effect)'),
         el('p', { id: 'diagnosis-delta-bic' }, `vs base model: ${num(r.delta_bic.vs_base)}`));
       if (r.delta_bic.runners_up?.length) parts.push(table('diagnosis-runners-up', ['effect', 'delta_bic'], r.delta_bic.runners_up, ['runner-up effect', 'ΔBIC']));
     }
-    if (r.steps?.length) parts.push(el('h4', {}, 'Selection steps'), table('diagnosis-steps', ['step', 'added', 'nrmse_before', 'nrmse_after', 'delta_bic', 'n_effective'], r.steps, ['step', 'added', 'NRMSE before', 'NRMSE after', 'ΔBIC', 'n eff']));
-    parts.push(el('p', { class: 'hint' }, `The report carries no calibrated model curves; "Run with these parameters" runs ${fitted.picker ? 'the calibrated model at the σ3 picked' : 'the fitted values on the scheme diagnosed'}, whose curves the Lab comparison page draws over the lab readings.`));
+    // A step that kept nothing says so (an empty "added" cell read as a missing value).
+    if (r.steps?.length) parts.push(el('h4', {}, 'Selection steps'), table('diagnosis-steps', ['step', s => s.added || 'nothing kept', 'nrmse_before', 'nrmse_after', 'delta_bic', 'n_effective'], r.steps, ['step', 'added', 'NRMSE before', 'NRMSE after', 'ΔBIC', 'n eff']));
+    parts.push(el('p', { class: 'hint' }, `"Run with these parameters" runs ${fitted.picker ? 'the calibrated model at the σ3 picked' : 'the fitted values on the scheme diagnosed'}; the curves above are the report's own model runs.`));
     if (!this.candidateRows?.length && r.candidates?.length) this.renderCandidates(r.candidates);
     this.report.replaceChildren(...parts);
+    this.renderCurves(d, conditions);
     this.refreshLists();
+  }
+
+  // The lab readings and the lab's envelope (GET /datasets/{id}, /datasets/{id}/envelope)
+  // beside the report's model curves and envelopes.
+  async renderCurves(d, conditions) {
+    const r = d.report, id = d.id;
+    const [dataset, labEnvelope] = await Promise.all([getJSON(`/datasets/${d.dataset_id}`).catch(() => null),
+      getJSON(`/datasets/${d.dataset_id}/envelope`).catch(() => null)]);
+    if (id !== this.diagnosisId) return;
+    for (const c of this.charts || []) c.destroy();
+    this.charts = renderDiagnosisCurves(this.curvesBox, r, dataset, conditions);
+    if (!dataset) this.curvesBox.prepend(el('p', { class: 'hint' }, `dataset #${d.dataset_id} is gone: model curves only`));
+    const sets = [{ label: 'lab', envelope: labEnvelope }, { label: 'calibrated base', envelope: r.strength_envelope?.base, dash: [6, 4] },
+      { label: 'final model', envelope: r.strength_envelope?.final }].filter(x => x.envelope);
+    if (!r.strength_envelope) this.envelopeBox.replaceChildren(el('p', { class: 'hint' }, 'This report carries no model envelope (stored before it was kept); the lab\'s: ' + envelopeText(labEnvelope)));
+    else this.envelopeBox.replaceChildren(envelopeTable('diagnosis-envelope-table', sets));
+    const grid = el('div', { class: 'plot-grid' });
+    this.envelopeBox.append(grid);
+    this.charts.push(mohrChart(grid, 'diagnosis-mohr', sets, conditions), pqChart(grid, 'diagnosis-pq', sets, conditions));
   }
 
   rerun(d) {
@@ -428,5 +490,5 @@ export class DiagnosisView {
     if (this.source) this.source.close();
   }
 
-  close() { this.stop(); clearTimeout(this.costTimer); this.source = null; this.diagnosisId = null; }
+  close() { this.stop(); for (const c of this.charts || []) c.destroy(); clearTimeout(this.costTimer); this.source = null; this.diagnosisId = null; }
 }

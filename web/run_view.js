@@ -3,10 +3,16 @@
 // grow as the server-sent events of /runs/{id}/events arrive. The stream replays the
 // history to a late client, so a finished run is drawn the same way as a live one.
 // Finished runs and uploaded lab readings can be overlaid on the plots while the run goes.
+// The shear curves start at the consolidated state (εa 0, q 0, εv 0; p' = σ3), the state
+// the first streamed reading departs from. Once done: the run's Mohr circle at failure
+// and its envelope (GET /runs/{id}/envelope), the envelope's line in p'-q, and a printable
+// report (print_report.js).
 
 import { el, getAll, getJSON, postJSON, progressElement, axisLabel } from './api.js';
 import { Chart } from './chart.js';
 import { SpecimenView } from './specimen_view.js';
+import { envelopeTable, envelopeText, mohrChart } from './envelope.js';
+import { printButton, printHeader } from './print_report.js';
 
 const ENERGY_KEYS = ['strain_J', 'slip_J', 'damping_J', 'kinetic_J', 'bond_J', 'boundary_work_J', 'creep_J', 'breakage_J'];
 const MEASURE_KEYS = ['z_displacement_mm', 'porosity', 'coordination', 'rotation_rate_x_rad_s', 'rotation_rate_y_rad_s', 'rotation_rate_z_rad_s'];
@@ -55,7 +61,7 @@ export class RunView {
     this.overlayRun = el('select', { id: 'overlay-run', 'aria-label': 'finished run to overlay' });
     this.overlaySet = el('select', { id: 'overlay-dataset', 'aria-label': 'lab dataset to overlay' });
     this.overlayInfo = el('span', { class: 'hint', id: 'overlay-info' });
-    const overlay = el('div', { class: 'row overlay-bar' },
+    const overlay = el('div', { class: 'row overlay-bar print-hide' },
       el('label', {}, 'overlay run ', this.overlayRun),
       el('button', { type: 'button', id: 'overlay-run-add', onclick: () => this.addRunOverlay(Number(this.overlayRun.value)) }, 'add'),
       el('label', {}, 'lab readings ', this.overlaySet),
@@ -63,14 +69,17 @@ export class RunView {
       el('button', { type: 'button', id: 'overlay-clear', onclick: () => this.clearOverlays() }, 'clear overlays'),
       this.overlayInfo);
     this.summaryBox = el('div', { class: 'summary' });
-    this.specimenBox = el('section', { class: 'card', id: 'specimen-card' });
+    this.envelopeBox = el('section', { class: 'card', id: 'run-envelope' });
+    this.specimenBox = el('section', { class: 'card print-hide', id: 'specimen-card' });
+    this.printHead = el('div');
     const grid = el('div', { class: 'plot-grid' });
     this.container.replaceChildren(
+      this.printHead,
       el('h2', {}, `Run ${id}`), this.header, this.readout,
-      el('p', { class: 'toolbar' }, this.eventsInfo, ' ', csvLinks),
+      el('p', { class: 'toolbar print-hide' }, this.eventsInfo, ' ', csvLinks, ' ', printButton('run-print')),
       overlay,
       el('p', { class: 'hint plot-help' }, 'Plots: hover for values, drag a box to zoom, wheel to zoom time, shift-drag to pan, double-click or "reset" to see all; click a legend entry to hide or show it.'),
-      grid, this.specimenBox, this.summaryBox);
+      grid, this.envelopeBox, this.specimenBox, this.summaryBox);
     const cond = () => this.conditions();
     const mk = o => new Chart(grid, { conditions: cond, ...o });
     this.qPlot = mk({ id: 'plot-q', title: 'Deviator stress vs axial strain', xLabel: 'axial strain (%)', yLabel: 'q (kPa)', yFromZero: true, fileName: `run${id}_q` });
@@ -82,13 +91,16 @@ export class RunView {
     // its load step, deformation from the level before it; the log axis leaves out t = 0.
     this.creepPlot = mk({ id: 'plot-creep', title: 'Creep per stage, linear time (each stage from t = 0)', xLabel: 'time since stage start (min)', yLabel: 'deformation since stage load (mm)', xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep` });
     this.creepLogPlot = mk({ id: 'plot-creep-log', title: 'Creep per stage, log time (each stage from t = 0)', xLabel: 'time since stage start (min, log)', yLabel: 'deformation since stage load (mm)', xLog: true, xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep_log` });
+    // The whole creep test on one time axis: stage 2 follows stage 1 (raw readings, time and
+    // deformation since creep began, as GET /runs/{id}/results/creep_raw).
+    this.creepTimeline = mk({ id: 'plot-creep-timeline', title: 'Creep, whole test (stages one after another)', xLabel: 'time since creep began (min)', yLabel: 'deformation since creep began (mm)', xLogAllowed: true, yFromZero: true, fileName: `run${id}_creep_timeline` });
     this.energyPlot = mk({ id: 'plot-energy', title: 'Energies', xLabel: 'mechanical step (cumulative over phases)', yLabel: 'energy (J)', fileName: `run${id}_energies` });
     this.measurePlot = mk({ id: 'plot-measure', title: 'Measurement spheres', xLabel: 'mechanical step', yLabel: axisLabel(MEASURE_KEYS[0]), fileName: `run${id}_measurements` });
     this.measureKey = MEASURE_KEYS[0];
     const pick = el('select', { class: 'measure-quantity', 'aria-label': 'measured quantity' }, MEASURE_KEYS.map(k => el('option', { value: k }, axisLabel(k))));
     pick.addEventListener('change', () => { this.measureKey = pick.value; this.replotMeasurements(); });
     this.measurePlot.tools.prepend(pick);
-    this.plots = [this.qPlot, this.vPlot, this.pqPlot, this.creepPlot, this.creepLogPlot, this.energyPlot, this.measurePlot];
+    this.plots = [this.qPlot, this.vPlot, this.pqPlot, this.creepPlot, this.creepLogPlot, this.creepTimeline, this.energyPlot, this.measurePlot];
     this.loadOverlayLists();
   }
 
@@ -185,7 +197,10 @@ export class RunView {
       const run = await getJSON(`/runs/${this.id}`);
       if (seq !== this.statusSeq) return;
       if (!this.scheme && run.scheme_id != null) {
-        getJSON(`/schemes/${run.scheme_id}`).then(s => { this.scheme = s.scheme; }).catch(() => {});
+        getJSON(`/schemes/${run.scheme_id}`).then(s => {
+          this.scheme = s.scheme;
+          this.printHead.replaceChildren(printHeader(`Run #${this.id} ${run.name || ''}`, this.conditions(), this.scheme));
+        }).catch(() => {});
       }
       // Once the server says the run is over, the header's activity line is refreshed at once.
       if (!['queued', 'running'].includes(run.status) && !this.activityNotified) {
@@ -193,7 +208,8 @@ export class RunView {
         window.dispatchEvent(new Event('triax-activity'));
       }
       this.renderHeader(run);
-      if (run.status === 'done') { this.loadSummary(); this.loadSpecimen(); }
+      if (run.status === 'done') { this.loadSummary(); this.loadSpecimen(); this.loadEnvelope(); this.noCreepNote(); }
+      this.printHead.replaceChildren(printHeader(`Run #${this.id} ${run.name || ''}`, this.conditions(), this.scheme));
     } catch (e) { this.header.replaceChildren(el('span', { class: 'error' }, e.message)); }
   }
 
@@ -213,7 +229,8 @@ export class RunView {
       const q = this.stageInfo?.q_target_kPa;
       parts.push(el('div', { class: 'readout-group', id: 'readout-creep' },
         el('span', { class: 'readout-phase' }, `creep stage ${c.stage}${this.stageLevels[c.stage] != null ? ` (S = ${this.stageLevels[c.stage]})` : ''}`),
-        ...[['t', c.t, 'min', 2], ['Δ deformation', c.d, 'mm', 4], ['εa', c.pct, '%', 3], ['q', q, 'kPa', 1]].map(item)));
+        // Both changes since this stage's load (the plots' origin); εa total beside them.
+        ...[['t', c.t, 'min', 2], ['Δ deformation', c.d, 'mm', 4], ['Δεa', c.dPct, '%', 4], ['εa total', c.pct, '%', 3], ['q', q, 'kPa', 1]].map(item)));
     }
     if (parts.length) this.readout.replaceChildren(...parts);
   }
@@ -238,6 +255,16 @@ export class RunView {
       if (this.run) this.renderHeader(Object.assign({}, this.run, { stage: d.stage }));
     });
     on('shear', d => {
+      if (!this.shearStarted) {
+        // The consolidated state the shear starts from: εa 0, q 0, εv 0, p' = σ3.
+        this.shearStarted = true;
+        const sigma3 = d.sigma3_kPa ?? (d.p_kPa - d.q_kPa / 3);
+        if (d.axial_strain_pct > 0) {
+          this.qPlot.append('q model', 0, 0);
+          this.vPlot.append('εv model', 0, 0);
+          if (Number.isFinite(sigma3)) this.pqPlot.append('model', sigma3, 0);
+        }
+      }
       this.qPlot.append('q model', d.axial_strain_pct, d.q_kPa);
       this.vPlot.append('εv model', d.axial_strain_pct, d.volumetric_strain_pct);
       this.pqPlot.append('model', d.p_kPa, d.q_kPa);
@@ -250,16 +277,18 @@ export class RunView {
     on('creep', d => {
       const k = d.stage;
       if (!this.creepStart[k]) {
-        const before = this.lastCreep && this.lastCreep.stage < k ? this.lastCreep.axial_deformation_mm : 0;
-        this.creepStart[k] = { t: d.time_min, dBefore: before };
+        const prev = this.lastCreep && this.lastCreep.stage < k ? this.lastCreep : null;
+        this.creepStart[k] = { t: d.time_min, dBefore: prev ? prev.axial_deformation_mm : 0, pctBefore: prev ? prev.axial_strain_pct : d.axial_strain_pct };
       }
+      this.creepOrigin ??= { t: d.time_min };
       const o = this.creepStart[k];
       const t = d.time_min - o.t, dd = d.axial_deformation_mm - o.dBefore;
       this.lastCreep = d;
       const name = `stage ${k}${this.stageLevels[k] != null ? ` (S = ${this.stageLevels[k]})` : ''}`;
       this.creepPlot.append(name, t, dd);
       this.creepLogPlot.append(name, t, dd);
-      this.lastCreepReading = { stage: k, t, d: dd, pct: d.axial_strain_pct };
+      this.creepTimeline.append(name, d.time_min - this.creepOrigin.t, d.axial_deformation_mm);
+      this.lastCreepReading = { stage: k, t, d: dd, pct: d.axial_strain_pct, dPct: d.axial_strain_pct - o.pctBefore };
       this.showReadout();
     });
     // Step counters may restart with each phase; keep the x axis cumulative.
@@ -292,6 +321,30 @@ export class RunView {
     this.measurePlot.clear();
     this.measurePlot.options.yLabel = axisLabel(this.measureKey);
     for (const d of this.measurements) this.plotMeasurement(d);
+  }
+
+  // A run without creep stages (shear only) says so instead of "waiting for data…".
+  noCreepNote() {
+    const none = !(this.scheme?.loading?.stress_levels?.length) && !Object.keys(this.creepStart).length;
+    if (none) for (const p of [this.creepPlot, this.creepLogPlot, this.creepTimeline]) p.setEmptyText('no creep stage in this run (shear only)');
+  }
+
+  // The run's Mohr circle at failure and its envelope through the origin (one σ3), and the
+  // envelope's line in p'-q (q = M p' + k) on the stress path.
+  async loadEnvelope() {
+    if (this.envelope) return;
+    try {
+      const e = this.envelope = await getJSON(`/runs/${this.id}/envelope`);
+      if (e.p_q_line && e.circles?.length) {
+        const pMax = Math.max(...e.circles.map(c => c.p_kPa)) * 1.15;
+        this.pqPlot.setSeries(`Mohr-Coulomb line (${envelopeText(e).replace(/ \(one σ3.*\)$/, '')})`,
+          [[0, e.p_q_line.intercept_kPa], [pMax, e.p_q_line.intercept_kPa + e.p_q_line.slope * pMax]], { color: '#7f8c8d', dash: [8, 3] });
+      }
+      const grid = el('div', { class: 'plot-grid' });
+      this.envelopeBox.replaceChildren(el('h3', {}, 'Strength at failure'), envelopeTable('run-envelope-table', [{ label: `run #${this.id}`, envelope: e }]), grid);
+      this.mohr = mohrChart(grid, 'run-mohr', [{ label: `run #${this.id}`, envelope: e }], () => this.conditions());
+      this.plots.push(this.mohr);
+    } catch (err) { this.envelopeBox.replaceChildren(el('p', { class: 'hint' }, `strength envelope: ${err.message}`)); }
   }
 
   loadSpecimen() {

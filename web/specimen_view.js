@@ -7,6 +7,7 @@
 // three.js is loaded only when this view opens.
 
 import { el, getJSON } from './api.js';
+import { specimenFrame } from './specimen_frame.js';
 
 const COLOUR_BY = [
   ['displacement_mm', 'displacement (mm)'],
@@ -40,6 +41,7 @@ export class SpecimenView {
     this.membraneBox = el('input', { type: 'checkbox', id: 'specimen-membrane', checked: true });
     this.chainsBox = el('input', { type: 'checkbox', id: 'specimen-chains', checked: true });
     this.spheresBox = el('input', { type: 'checkbox', id: 'specimen-spheres', checked: true });
+    this.cutBox = el('input', { type: 'checkbox', id: 'specimen-cut' });
     this.vtkLink = el('a', { id: 'specimen-vtk', href: '#', download: '' }, 'VTK download');
     this.info = el('div', { class: 'hint', id: 'specimen-info', 'aria-live': 'polite' }, 'loading particle snapshots…');
     this.legend = el('div', { class: 'specimen-legend', id: 'specimen-legend' });
@@ -53,11 +55,12 @@ export class SpecimenView {
         el('label', {}, this.membraneBox, ' membrane'),
         el('label', {}, this.chainsBox, ' strong force chains'),
         el('label', {}, this.spheresBox, ' measurement spheres'),
+        el('label', { title: 'hide the front half (x > 0): the inside of the specimen' }, this.cutBox, ' cut plane x = 0'),
         this.vtkLink),
       this.info, this.canvasBox, this.legend);
     this.stageSelect.addEventListener('change', () => this.show(this.stageSelect.value));
     this.colourSelect.addEventListener('change', () => this.paint());
-    for (const b of [this.membraneBox, this.chainsBox, this.spheresBox]) b.addEventListener('change', () => this.visibility());
+    for (const b of [this.membraneBox, this.chainsBox, this.spheresBox, this.cutBox]) b.addEventListener('change', () => this.visibility());
   }
 
   async load() {
@@ -187,6 +190,7 @@ export class SpecimenView {
       col.push(0.9 * shade + 0.1, shade * 0.4, shade * 0.2, 0.9 * shade + 0.1, shade * 0.4, shade * 0.2);
     }
     this.chainCount = pos.length / 6;
+    this.chainRange = [cut, fmax];
     const lg = new THREE.BufferGeometry();
     lg.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
     lg.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
@@ -211,6 +215,13 @@ export class SpecimenView {
       rmax = Math.max(rmax, Math.hypot(p.x_mm[i], p.y_mm[i]) + p.radius_mm[i]);
     }
     const hgt = zmax - zmin, cz = 0.5 * (zmin + zmax);
+    // Platens, axis triad and scale bar around the grains (the grains' extent, in mm).
+    let gzmin = Infinity, gzmax = -Infinity;
+    for (const i of grains) { gzmin = Math.min(gzmin, p.z_mm[i] - p.radius_mm[i]); gzmax = Math.max(gzmax, p.z_mm[i] + p.radius_mm[i]); }
+    const frame = specimenFrame(THREE, { zmin: gzmin, zmax: gzmax, rmax });
+    this.scaleMm = frame.scaleMm;
+    this.objects.push(frame.group);
+    this.scene.add(frame.group);
     if (!this.framed) {
       // Far enough that the whole height fits the vertical field of view, with a margin.
       const fit = 1.15 * (0.5 * hgt) / Math.tan(0.5 * this.camera.fov * Math.PI / 180) + rmax;
@@ -223,6 +234,10 @@ export class SpecimenView {
     this.info.textContent = `snapshot ${s.stage}: ${grains.length} grains, ${membrane.length} membrane particles, ` +
       `${f.length} contacts (${this.chainCount} strong, normal force > mean + 1 sd = ${cut.toFixed(1)} N), ` +
       `${(s.measurement_spheres || []).length} measurement spheres`;
+    // Crushed grains are named in words: "colour by crushed" is one click away, a count is not.
+    const crushed = grains.filter(i => p.crushed?.[i]).length;
+    this.info.append(el('span', { id: 'specimen-crushed' }, crushed ? ` · ${crushed} of ${grains.length} grains crushed` : ' · no grain crushed'));
+    this.container.dataset.crushed = String(crushed);
     this.container.dataset.grains = String(grains.length);
   }
 
@@ -240,7 +255,9 @@ export class SpecimenView {
     this.legend.replaceChildren(key === 'crushed'
       ? el('span', {}, el('span', { class: 'swatch', style: 'background:#c0392b' }), ' crushed  ', el('span', { class: 'swatch', style: 'background:#b8c4d0' }), ' intact',
         ` (${values.filter(Boolean).length} of ${values.length} crushed)`)
-      : el('span', {}, `${label}: `, el('span', { class: 'ramp' }), ` 0 … ${Number(hi.toPrecision(3))}`));
+      : el('span', {}, `${label}: `, el('span', { class: 'ramp' }), ` 0 … ${Number(hi.toPrecision(3))}`),
+      el('span', { id: 'specimen-frame-legend' }, ` · force chains light → dark red: ${Number(this.chainRange[0].toPrecision(3))} … ${Number(this.chainRange[1].toPrecision(3))} N` +
+        ` · platens grey · axes x red, y green, z (axial) blue · scale bar ${this.scaleMm} mm`));
     this.draw();
   }
 
@@ -249,6 +266,8 @@ export class SpecimenView {
     if (this.membraneMesh) this.membraneMesh.visible = this.membraneBox.checked;
     this.chains.visible = this.chainsBox.checked;
     this.measureGroup.visible = this.spheresBox.checked;
+    // The cut plane keeps x <= 0 (three.js keeps what lies on the normal's side).
+    this.renderer.clippingPlanes = this.cutBox.checked ? [new this.THREE.Plane(new this.THREE.Vector3(-1, 0, 0), 0)] : [];
     this.draw();
   }
 

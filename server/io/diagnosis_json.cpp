@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "server/io/diagnosis_verdict.hpp"
+#include "server/io/strength_envelope_json.hpp"
 
 namespace triax::io {
 
@@ -208,6 +209,10 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
             {"artefacts_dropped", r.artefacts_dropped},
             {"base_curves", curves_to_json(r.base_curves)},
             {"final_curves", curves_to_json(r.final_curves)},
+            // Mohr circles and the Mohr-Coulomb fit of the model's peaks over the lab's sigma3
+            // set: the calibrated base's and the final model's c' and phi'.
+            {"strength_envelope", {{"base", strength_envelope_json(r.base_curves)},
+                                   {"final", strength_envelope_json(r.final_curves)}}},
             {"runs_used", r.runs_used},
             {"failed_runs", r.failed_runs},
             {"retried_runs", r.retried_runs},

@@ -15,7 +15,12 @@
 //    "re-run";
 // 5. the 3D specimen panel; phone layout at 390 px; accessible names on every control;
 // 6. screenshots of each page at 1440x900 and 390x844 (TRIAX_WEB_SCREENS, default
-//    tests/web/screenshots/).
+//    tests/web/screenshots/);
+// 7. what a lab engineer hands on: curves from the consolidated state, the whole creep
+//    test on one time axis, comparisons matched and labelled by σ3, the strength envelope
+//    (c', φ' of GET .../envelope against a hand computation, Mohr circles drawn), the
+//    diagnosis's model-vs-lab curves per σ3 with the noise-floor band and its verdict in
+//    one sentence, and a print (PDF) of a run, a comparison and a diagnosis.
 // Run by tests/web/run.sh, which starts the server and sets TRIAX_BASE_URL.
 
 import { chromium } from 'playwright-core';
@@ -99,6 +104,20 @@ const viewerPixels = page => page.evaluate(async () => {
   return { ok: true, share: coloured / (px.length / 4), ms: (performance.now() - t0) / 2, grains: Number(card.dataset.grains), chains: v.chainCount };
 });
 
+// Share of drawn pixels of the 3D canvas as it stands (no camera move).
+const drawnShare = page => page.evaluate(() => {
+  const v = document.querySelector('#specimen-card').specimen, c = v.renderer.domElement;
+  v.renderer.render(v.scene, v.camera);
+  const probe = document.createElement('canvas');
+  probe.width = c.width; probe.height = c.height;
+  const ctx = probe.getContext('2d');
+  ctx.drawImage(c, 0, 0);
+  const px = ctx.getImageData(0, 0, c.width, c.height).data;
+  let coloured = 0;
+  for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) coloured++;
+  return coloured / (px.length / 4);
+});
+
 let failures = 0;
 const log = (...a) => console.log('[browser-test]', ...a);
 function check(cond, what) {
@@ -144,6 +163,34 @@ const unnamedControls = page => page.evaluate(() => {
 });
 const nextFrame = page => page.evaluate(() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r))));
 
+// Mohr-Coulomb by hand: sigma1 = N sigma3 + 2 c sqrt(N), N = tan^2(45 + phi/2) (kPa, deg).
+const mcSigma1 = (sigma3, c, phiDeg) => { const n = Math.tan((45 + phiDeg / 2) * Math.PI / 180) ** 2; return n * sigma3 + 2 * c * Math.sqrt(n); };
+// A lab shear curve peaking at q_peak at εa = 1 % (exactly on a reading), softening after.
+function peakedShear(sigma3, qPeak) {
+  const rows = [];
+  for (let i = 0; i <= 20; i++) {
+    const ea = 0.1 * i, q = ea <= 1 ? qPeak * (1 - (1 - ea) ** 2) : qPeak * (1 - 0.05 * (ea - 1));
+    rows.push(`shear,,${sigma3},,${ea.toFixed(3)},,${q.toFixed(6)},${(0.1 * ea).toFixed(4)}`);
+  }
+  return rows;
+}
+// The browser's print of the page as it stands: a PDF (pages counted) and what the print
+// rules show and hide.
+async function printCheck(page, name, mustShow, mustHide) {
+  await page.emulateMedia({ media: 'print' });
+  const shown = await page.evaluate(([show, hide]) => ({
+    show: show.map(sel => [...document.querySelectorAll(sel)].some(e => getComputedStyle(e).display !== 'none' && e.offsetParent !== null)),
+    hide: hide.map(sel => [...document.querySelectorAll(sel)].every(e => getComputedStyle(e).display === 'none' || e.offsetParent === null)),
+  }), [mustShow, mustHide]);
+  await page.screenshot({ path: path.join(shots, `${name}_print.png`), fullPage: true });
+  await page.emulateMedia({ media: 'screen' });
+  const pdf = await page.pdf({ format: 'A4', printBackground: true });
+  fs.writeFileSync(path.join(shots, `${name}.pdf`), pdf);
+  const pages = (pdf.toString('latin1').match(/\/Type\s*\/Page[^s]/g) || []).length;
+  check(pdf.subarray(0, 4).toString() === '%PDF' && pages >= 1 && shown.show.every(Boolean) && shown.hide.every(Boolean),
+    `${name}: prints as a report (${pages} A4 page(s); shown ${mustShow.join(', ')}: ${shown.show}; hidden ${mustHide.join(', ')}: ${shown.hide})`);
+}
+
 const context = await chromium.launchPersistentContext(path.join(tmp, 'profile'), {
   executablePath: '/usr/bin/chromium',
   headless: true,
@@ -174,6 +221,8 @@ try {
   await page.waitForSelector('#presets button.preset', { timeout: 15000 });
   const intro = await page.textContent('.intro p');
   check(/discrete-element/.test(intro) && /creep/.test(intro) && intro.length > 200, 'the landing says what the tool does in one paragraph');
+  const paperNote = await page.textContent('#paper-note');
+  check(/Triaxial Creep Test and Particle Flow Simulation/.test(paperNote) && /model time/.test(paperNote), `the landing names the paper and says creep days are model time (${paperNote})`);
   const cards = await page.$$eval('#presets button.preset', bs => bs.map(b => ({ name: b.dataset.preset, text: b.textContent })));
   const presetNames = cards.map(c => c.name);
   log('presets:', presetNames.join(' '));
@@ -230,6 +279,26 @@ try {
   const unnamedNew = await unnamedControls(page);
   check(unnamedNew.length === 0, `every control of the new-run page has an accessible name (${unnamedNew.join(', ')})`);
   await bothWidths(page, '01_new_run');
+  // On a phone the header scrolls away and the Submit bar stays small; a field reached by
+  // Tab is never left under the bar.
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.waitForTimeout(150);
+  const phone = await page.evaluate(() => ({ header: getComputedStyle(document.querySelector('header')).position,
+    bar: document.querySelector('.submit-row').getBoundingClientRect().height }));
+  await page.focus('#presets button.preset >> nth=0');
+  let hiddenByBar = 0, tabbed = 0;
+  for (; tabbed < 25; tabbed++) {
+    await page.keyboard.press('Tab');
+    hiddenByBar += await page.evaluate(() => {
+      const a = document.activeElement, bar = document.querySelector('.submit-row');
+      if (!a || bar.contains(a)) return 0;
+      const r = a.getBoundingClientRect(), b = bar.getBoundingClientRect();
+      return r.bottom > b.top + 1 ? 1 : 0;
+    });
+  }
+  await page.setViewportSize({ width: 1440, height: 900 });
+  check(phone.header !== 'sticky' && phone.bar < 0.35 * 844 && hiddenByBar === 0,
+    `phone: the header scrolls away (${phone.header}), the Submit bar takes ${Math.round(phone.bar)} of 844 px, no field of ${tabbed} Tab stops hides under it (${hiddenByBar})`);
 
   const [badPointer, badValue] = INVALID.map(([re, v]) => [pointers.find(p => re.test(p)), v]).find(([p]) => p) || [];
   check(!!badPointer, `a field to make invalid exists (${badPointer})`);
@@ -334,8 +403,40 @@ try {
   check(counts['plot-vol'] > 1, 'volumetric strain curve has points');
   check(counts['plot-creep'] > 1, 'creep curves have points');
   check(counts['plot-pq'] > 1, `the stress path q vs p' has points (${counts['plot-pq']})`);
+  // The curves start at the consolidated state: εa 0, q 0 (then the API's first row), and
+  // the stress path at p' = σ3, q 0.
+  const ssApi = await (await fetch(`${base}/runs/${runId}/results/stress-strain`)).json();
+  const sumApi = await (await fetch(`${base}/runs/${runId}/results/summary`)).json();
+  const qFirst = await page.$eval('#plot-q', f => f.chart.series.get('q model').points.slice(0, 2));
+  const pqFirst = await page.$eval('#plot-pq', f => f.chart.series.get('model').points[0]);
+  const [ea0, q0] = [ssApi.rows[0][ssApi.columns.indexOf('axial_strain_pct')], ssApi.rows[0][ssApi.columns.indexOf('q_kPa')]];
+  check(qFirst[0][0] === 0 && qFirst[0][1] === 0 && Math.abs(qFirst[1][0] - ea0) < 1e-9 && Math.abs(qFirst[1][1] - q0) < 1e-9 &&
+    Math.abs(pqFirst[0] - sumApi.sigma3_kPa) < 1e-6 * sumApi.sigma3_kPa && pqFirst[1] === 0,
+    `q-εa starts at (0, 0) then the API's first row (${ea0.toFixed(3)} %, ${q0.toFixed(1)} kPa); p'-q at (σ3 ${sumApi.sigma3_kPa}, 0) (page: ${pqFirst})`);
+  // The whole creep test on one time axis: stage 2 follows stage 1.
+  const timeline = await page.$eval('#plot-creep-timeline', f => [...f.chart.series.values()].map(s => s.points));
+  check(timeline.length === 2 && timeline[1][0][0] >= timeline[0][timeline[0].length - 1][0] && timeline[1][0][1] >= timeline[0][timeline[0].length - 1][1] - 1e-9,
+    `the creep timeline puts stage 2 after stage 1 (stage 1 ends at ${timeline[0]?.at(-1)?.[0]?.toFixed(3)} min, stage 2 starts at ${timeline[1]?.[0]?.[0]?.toFixed(3)} min)`);
+  const energyTicks = await page.$eval('#plot-energy', f => (f.chart.u.axes[1]._values || []).filter(v => v !== '' && v !== '0' && v != null));
+  const powers = energyTicks.filter(v => /10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]/.test(v)).length;
+  check(powers === 0 || powers === energyTicks.length, `the energy axis writes every tick in one form (${energyTicks.join(', ')})`);
+  // The run's strength at failure: one circle, φ' of the envelope through the origin
+  // tangent to it (by hand: sin φ' = (σ1 - σ3) / (σ1 + σ3)), its line in p'-q.
+  await page.waitForSelector('#run-envelope-table tr:nth-child(2)', { timeout: 15000 }).catch(() => {});
+  const runEnv = await (await fetch(`${base}/runs/${runId}/envelope`)).json();
+  const rc = runEnv.circles?.[0] || {};
+  const qMax = Math.max(...ssApi.rows.map(r => r[ssApi.columns.indexOf('q_kPa')]));
+  const phiHand = Math.asin((rc.sigma1_kPa - rc.sigma3_kPa) / (rc.sigma1_kPa + rc.sigma3_kPa)) * 180 / Math.PI;
+  const runPhiCell = await page.$eval('#run-envelope-table .envelope-phi', td => td.textContent).catch(() => '');
+  const pqLine = await page.$eval('#plot-pq', f => [...f.chart.series.keys()].find(n => /Mohr-Coulomb/.test(n)) || '');
+  check(Math.abs(rc.q_peak_kPa - qMax) < 1e-9 && Math.abs(runEnv.friction_angle_deg - phiHand) < 1e-9 && runEnv.cohesion_kPa === 0 &&
+    runPhiCell === runEnv.friction_angle_deg.toFixed(1) && /φ'/.test(pqLine),
+    `the run's envelope: q_f ${rc.q_peak_kPa?.toFixed(1)} kPa = the series' peak, φ' ${runEnv.friction_angle_deg?.toFixed(2)}° = asin((σ1-σ3)/(σ1+σ3)) by hand, shown ${runPhiCell}, line in p'-q "${pqLine}"`);
   const readout = await page.textContent('#live-readout');
   check(/εa/.test(readout) && /q/.test(readout) && /p'/.test(readout) && /\d/.test(readout), `the live readout shows the current state (${readout.trim()})`);
+  const creepReadout = await page.textContent('#readout-creep').catch(() => '');
+  check(/Δ deformation/.test(creepReadout) && /Δεa/.test(creepReadout) && /εa total/.test(creepReadout),
+    `the creep readout says which values are since the stage's load and which are totals (${creepReadout.trim()})`);
   // The same creep points on log time; only t <= 0 may be left out there.
   const creepLogShown = await page.$eval('#plot-creep-log', c => Number(c.dataset.visible || 0));
   const creepSeries = Number(await page.$eval('#plot-creep', c => c.dataset.series));
@@ -397,6 +498,7 @@ try {
   check(specimenState === 'shown' || (specimenState === 'unavailable' && /no particle snapshots/.test(specimenInfo)),
     `the 3D panel shows the run's snapshot or says none is stored (${specimenState})`);
   await bothWidths(page, '03_run_done');
+  await printCheck(page, '03_run_report', ['.print-header', '#plot-q', '#run-envelope-table'], ['#overlay-run', 'nav', '#run-print', '#specimen-card']);
 
   const pngDownload = page.waitForEvent('download', { timeout: 10000 });
   await page.click('#plot-q .plot-png');
@@ -408,6 +510,12 @@ try {
   const pngHeight = pngBytes.readUInt32BE(20);
   const plotHeight = await page.$eval('#plot-q .u-wrap canvas', c => c.height);
   check(pngHead === '89504e470d0a1a0a' && pngHeight > plotHeight, `PNG export is a PNG file with a title band and legend (${png.suggestedFilename()}, ${pngHeight} px high, plot ${plotHeight} px)`);
+  // On a phone-wide plot the PNG's conditions line wraps instead of running off the image.
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.waitForTimeout(200);
+  const phonePng = await page.$eval('#plot-q', f => { const c = f.chart.toPNG(); return { lines: Number(f.dataset.pngConditionLines), width: c.width, text: f.chart.options.conditions() }; });
+  await page.setViewportSize({ width: 1440, height: 900 });
+  check(phonePng.lines >= 2, `at 390 px the PNG's conditions wrap onto ${phonePng.lines} lines (${phonePng.width} px wide: "${phonePng.text}")`);
   const csvDownload = page.waitForEvent('download', { timeout: 10000 });
   await page.click('#plot-q .plot-csv');
   const csv = await csvDownload;
@@ -427,6 +535,33 @@ try {
     const snapJson = await (await fetch(new URL(href.replace('format=vtk', 'format=json'), base))).json();
     check(/^# vtk DataFile Version/.test(vtk) && vtkPoints === snapJson.particles.x_mm.length,
       `the VTK download is legacy VTK with every particle as a point (${vtkPoints} points, ${snapJson.particles.x_mm.length} in the JSON)`);
+    // The note on crushed grains counts the shown snapshot's crushed flags (soil grains only).
+    const shownStage = await page.$eval('#specimen-card', c => c.specimen.snap.stage);
+    const shownSnap = await (await fetch(`${base}/runs/${runId}/snapshots/${shownStage}?format=json`)).json();
+    const soil = Object.entries(shownSnap.groups || {}).find(([, n]) => /grain|soil/i.test(n))?.[0] ?? '0';
+    const crushedApi = shownSnap.particles.group.filter((g, i) => String(g) === soil && shownSnap.particles.crushed?.[i]).length;
+    const crushedNote = await page.textContent('#specimen-crushed').catch(() => '');
+    check(crushedApi ? crushedNote.includes(`${crushedApi} of`) : /no grain crushed/.test(crushedNote), `the 3D view says how many grains crushed (${crushedNote.trim()}; snapshot ${shownStage}: ${crushedApi})`);
+    // Platens at the grains' bottom and top, the axis triad, a scale bar of a round length
+    // near a quarter of the diameter, and a cut plane that hides the front half.
+    const sp = shownSnap.particles, soilIdx = sp.group.map((g, i) => (String(g) === soil ? i : -1)).filter(i => i >= 0);
+    const zBottom = Math.min(...soilIdx.map(i => sp.z_mm[i] - sp.radius_mm[i])), zTop = Math.max(...soilIdx.map(i => sp.z_mm[i] + sp.radius_mm[i]));
+    const frame = await page.evaluate(() => { const v = document.querySelector('#specimen-card').specimen;
+      const named = n => v.scene.getObjectByName(n);
+      return { bottom: named('bottom platen')?.position.y, top: named('top platen')?.position.y, thick: named('top platen')?.geometry.parameters.height,
+        arrows: v.objects.flatMap(o => o.children || []).filter(c => c.type === 'ArrowHelper').length, scale: v.scaleMm,
+        legend: document.querySelector('#specimen-frame-legend')?.textContent || '' }; });
+    check(Math.abs(frame.bottom + frame.thick / 2 - zBottom) < 1e-6 && Math.abs(frame.top - frame.thick / 2 - zTop) < 1e-6 && frame.arrows === 3 &&
+      [1, 2, 5].some(m => Math.abs(frame.scale / 10 ** Math.floor(Math.log10(frame.scale)) - m) < 1e-9) && frame.legend.includes(`scale bar ${frame.scale} mm`) && /force chains/.test(frame.legend),
+      `the 3D view draws the platens at the grains' ends (${zBottom.toFixed(1)}, ${zTop.toFixed(1)} mm), an axis triad and a ${frame.scale} mm scale bar (${frame.legend.trim()})`);
+    const uncut = await drawnShare(page);
+    await page.click('#specimen-cut');
+    const cutShare = await drawnShare(page);
+    const planes = await page.evaluate(() => document.querySelector('#specimen-card').specimen.renderer.clippingPlanes.length);
+    await page.locator('#specimen-card').screenshot({ path: path.join(shots, '03c_specimen_cut_1440.png') });
+    await page.click('#specimen-cut');
+    const back = await drawnShare(page);
+    check(planes === 1 && cutShare !== uncut && Math.abs(back - uncut) < 1e-9, `the cut plane clips the view and gives it back (${(100 * uncut).toFixed(2)} % -> ${(100 * cutShare).toFixed(2)} % -> ${(100 * back).toFixed(2)} % of pixels drawn)`);
     await page.locator('#specimen-card').scrollIntoViewIfNeeded();
     await page.screenshot({ path: path.join(shots, '03b_specimen_3d_1440.png') });
   }
@@ -499,7 +634,7 @@ try {
   log('metrics:', JSON.stringify(metricRows), 'compare error:', await page.textContent('#comparison-error'));
   check(metricRows.length >= 2, 'the comparison metrics table has at least one curve');
   // The lab curve has 21 readings: compared + dropped (outside the model's range) must add up.
-  const shearRow = metricRows.find(r => r[0] === 'stress_strain') || [];
+  const shearRow = (metricRows.find(r => r[1] === 'stress_strain') || []).slice(1); // [0] is σ3
   check(Number(shearRow[2]) + Number(shearRow[3]) === 21 && /kPa$/.test(shearRow[4] || '') && /kPa$/.test(shearRow[7] || ''),
     `q metrics: compared + dropped = 21 readings, RMSE and max error in kPa (${shearRow.join(' | ')})`);
   await page.waitForFunction(() => ['plot-overlay', 'plot-residual'].every(id => Number(document.querySelector(`#${id}`)?.dataset.points || 0) > 0),
@@ -522,6 +657,83 @@ try {
   const unnamedCompare = await unnamedControls(page);
   check(unnamedCompare.length === 0, `every control of the comparison page has an accessible name (${unnamedCompare.join(', ')})`);
   await bothWidths(page, '05_comparison');
+
+  // ---- 3b. a dataset of three σ3: matched by σ3, labelled with it, the strength envelope --
+  // Peaks on c' = 20 kPa, φ' = 35° by hand (mcSigma1) at σ3/2, σ3 and 2 σ3 of the run.
+  const runSigma3 = Number(summary.sigma3_kPa);
+  const set3 = [runSigma3 / 2, runSigma3, 2 * runSigma3];
+  const csv3 = ['kind,stage,confining_kPa,time_min,axial_strain_pct,axial_deformation_mm,q_kPa,volumetric_strain_pct'];
+  for (const s3 of set3) csv3.push(...peakedShear(s3, mcSigma1(s3, 20, 35) - s3));
+  const three = await (await fetch(`${base}/datasets?format=csv&name=three-sigma3`, { method: 'POST', headers: { 'Content-Type': 'text/csv' }, body: csv3.join('\n') + '\n' })).json();
+  const envApi = await (await fetch(`${base}/datasets/${three.id}/envelope`)).json();
+  check(Math.abs(envApi.cohesion_kPa - 20) < 1e-4 && Math.abs(envApi.friction_angle_deg - 35) < 1e-4 && envApi.circles.length === 3 &&
+    envApi.circles.every((c, i) => Math.abs(c.sigma1_kPa - mcSigma1(set3[i], 20, 35)) < 1e-4),
+    `GET /datasets/{id}/envelope gives back the hand computation: c' ${envApi.cohesion_kPa?.toFixed(6)} kPa (20), φ' ${envApi.friction_angle_deg?.toFixed(6)}° (35)`);
+  await page.click('button:has-text("Refresh lists")');
+  await page.waitForSelector(`#compare-dataset option[value="${three.id}"]`, { state: 'attached', timeout: 10000 });
+  await page.selectOption('#compare-dataset', String(three.id));
+  await page.selectOption('#compare-run', String(runId));
+  const sigmaOptions = await page.$$eval('#compare-sigma3 option', os => os.map(o => o.textContent));
+  const kpa = v => `${Number(v.toPrecision(4))} kPa`;
+  check(sigmaOptions.length === 4 && set3.every(v => sigmaOptions.includes(kpa(v))), `the σ3 picker offers the run's σ3 and the dataset's three (${sigmaOptions.join(' | ')})`);
+  const threeRow = await page.$eval(`#dataset-table`, (t, id) => [...t.querySelectorAll('tr')].find(r => r.children[0]?.textContent === String(id))?.children[2]?.textContent || '', three.id);
+  check(set3.every(v => threeRow.includes(`at σ3 ${kpa(v)}: 21 pts`)), `the dataset table tells the curves apart by σ3 (${threeRow})`);
+  const compareAndRead = async () => {
+    const before = (await (await fetch(`${base}/comparisons?limit=1`)).json()).comparisons[0]?.id || 0;
+    await page.click('#compare-button');
+    // The page shows the new comparison (its id above the previous one), not the last.
+    await page.waitForFunction(([id, prev]) => { const m = (document.querySelector('#comparison-match')?.textContent || '').match(/^comparison #(\d+):.*dataset #(\d+)/);
+      return m && Number(m[1]) > prev && Number(m[2]) === id; }, [three.id, before], { timeout: 30000 }).catch(() => {});
+    await page.waitForSelector(`#comparison-envelope-table tr[data-source="lab #${three.id}"]`, { timeout: 15000 }).catch(() => {});
+    const list = (await (await fetch(`${base}/comparisons?limit=1`)).json()).comparisons[0];
+    const stored = await (await fetch(`${base}/comparisons/${list.id}`)).json();
+    return {
+      stored,
+      rows: await page.$$eval('#metrics-table tr', rs => rs.slice(1).map(r => [...r.children].map(c => c.textContent))),
+      picker: await page.$$eval('#comparison-curve option', os => os.map(o => o.textContent)),
+      notes: await page.textContent('#comparison-warnings').catch(() => ''),
+      overlay: await page.$eval('#plot-overlay', f => ({ lab: Number(f.dataset.lab), names: [...f.chart.series.keys()], title: f.chart.options.title })),
+    };
+  };
+  const matched = await compareAndRead();
+  check(matched.stored.lab_sigma3_kPa === runSigma3 && matched.stored.curves.length === 2 && matched.stored.curves.every(c => c.sigma3_kPa === runSigma3) &&
+    matched.stored.skipped.filter(k => k.sigma3_kPa !== runSigma3).length === 2,
+    `POST /comparisons matches the run to the lab curves at its σ3 (${matched.stored.curves.map(c => c.curve + '@' + c.sigma3_kPa).join(', ')}; skipped ${matched.stored.skipped.map(k => k.sigma3_kPa).join(', ')})`);
+  check(matched.rows.length === 2 && matched.rows.every(r => r[0] === String(runSigma3)) && matched.picker.every(t => t.startsWith(`σ3 ${kpa(runSigma3)}`)) &&
+    new Set(matched.picker).size === matched.picker.length,
+    `every metric row and picker entry carries its σ3, no two alike (${matched.picker.join(' | ')})`);
+  check(matched.overlay.lab === 21 && matched.overlay.names.some(n => n === `lab σ3 ${kpa(runSigma3)}`) && matched.overlay.title.includes(kpa(runSigma3)),
+    `the overlay draws only the 21 readings at the row's σ3, labelled (${matched.overlay.names.join(', ')})`);
+  check(set3.filter(v => v !== runSigma3).every(v => matched.notes.includes(`lab curve at ${kpa(v)}`)) && !/\d\.\d{4,} kPa/.test(matched.notes),
+    `the curves at the other σ3 are listed as not compared, pressures written as a lab writes them (${matched.notes.replace(/\s+/g, ' ').slice(0, 160)})`);
+  // The envelope on the page is the API's: c' and φ' cells, and the circles drawn (3 lab + 1 run).
+  const envRows = await page.$$eval('#comparison-envelope-table tr', rs => rs.slice(1).map(r => [r.querySelector('.envelope-c')?.textContent, r.querySelector('.envelope-phi')?.textContent]));
+  const mohr = await page.$eval('#comparison-mohr', f => ({ circles: Number(f.dataset.circles),
+    top: [...f.chart.series.values()].filter(s => /circle/.test(s.name)).map(s => Math.max(...s.points.map(p => p[1]))) }));
+  const radii = [...envApi.circles.map(c => (c.sigma1_kPa - c.sigma3_kPa) / 2)];
+  check(envRows[0]?.[0] === '20.0' && envRows[0]?.[1] === '35.0' && mohr.circles === 4 &&
+    radii.every((r, i) => Math.abs(mohr.top[i] - r) < 1e-9 * r),
+    `the page shows the lab's c' ${envRows[0]?.[0]} kPa and φ' ${envRows[0]?.[1]}° and draws ${mohr.circles} Mohr circles of the API's radii`);
+  // The same envelope in p'-q: the peaks at (σ3 + q/3, q) and q = M p' + k from the API,
+  // M = 6 sin φ' / (3 - sin φ') by hand.
+  const pqSeries = await page.$eval('#comparison-pq', f => [...f.chart.series.values()].map(s => ({ name: s.name, points: s.points })));
+  const labLine = pqSeries.find(x => /^lab #\d+ line q =/.test(x.name)), labPeaks = pqSeries.find(x => /^lab #\d+ failure/.test(x.name));
+  const sin35 = Math.sin(35 * Math.PI / 180), mHand = 6 * sin35 / (3 - sin35), kHand = 6 * 20 * Math.cos(35 * Math.PI / 180) / (3 - sin35);
+  const [px, py] = labLine?.points[1] || [];
+  check(Math.abs(envApi.p_q_line.slope - mHand) < 1e-6 && Math.abs(envApi.p_q_line.intercept_kPa - kHand) < 1e-4 &&
+    Math.abs(py - (envApi.p_q_line.intercept_kPa + envApi.p_q_line.slope * px)) < 1e-9 * py &&
+    labPeaks?.points.every((p, i) => Math.abs(p[0] - (set3[i] + (mcSigma1(set3[i], 20, 35) - set3[i]) / 3)) < 1e-4),
+    `the lab's Mohr-Coulomb line in p'-q: M ${envApi.p_q_line.slope.toFixed(4)} (hand ${mHand.toFixed(4)}), k ${envApi.p_q_line.intercept_kPa.toFixed(2)} kPa (hand ${kHand.toFixed(2)}), drawn as "${labLine?.name}"`);
+  await page.locator('#comparison-result').screenshot({ path: path.join(shots, '05c_comparison_result_element_1440.png') });
+  await bothWidths(page, '05b_comparison_three_sigma3');
+  await printCheck(page, '05b_comparison_report', ['.print-header', '#metrics-table', '#comparison-mohr'], ['#upload-button', '#dataset-table', 'nav', '#comparison-print']);
+  // A σ3 chosen explicitly: the lab curve at σ3/2, with a warning in lab writing.
+  await page.selectOption('#compare-sigma3', String(set3[0]));
+  const chosen = await compareAndRead();
+  check(chosen.stored.lab_sigma3_kPa === set3[0] && chosen.rows.every(r => r[0] === String(set3[0])) &&
+    chosen.stored.warnings.some(w => w === `lab curve at ${kpa(set3[0])} confining vs run at ${kpa(runSigma3)}`),
+    `a σ3 picked compares that curve and warns "${chosen.stored.warnings[0]}"`);
+  await page.selectOption('#compare-sigma3', '');
 
   // ---- 4. the diagnosis panel loads its lists (the loop itself is tested elsewhere) --
   await page.goto(`${base}/#/diagnose`);
@@ -578,7 +790,9 @@ try {
   const err = (curve, phase, n, rmse, unit, nrmse) => ({ curve, phase, n, rmse, unit, nrmse });
   const report = {
     chosen_effect: 'rolling_resistance', effects: ['rolling_resistance', 'seating_error'],
-    parameters: [{ name: 'rolling_friction', unit: '', value: 0.12, std: 0.02 }, { name: 'seating_closure', unit: '%', value: 0.35, std: 0.05 }],
+    outcome: 'effect_found', artefacts_below_threshold: ['membrane_compliance'],
+    parameters: [{ name: 'rolling_friction', unit: '', value: 0.12, std: 0.02 }, { name: 'seating_closure', unit: '%', value: 0.35, std: 0.05 },
+      { name: 'grain_crushability', unit: '', value: 0, std: 0 }],
     base_parameters: [{ name: 'contact_normal_modulus', unit: 'Pa', value: 1.2e8, std: 1e7 }, { name: 'friction', unit: '-', value: 0.45, std: 0.03 }],
     error_before: [err('stress_strain@100kPa', 'all', 61, 21.5, 'kPa', 0.11), err('volumetric@100kPa', 'dilation', 30, 0.42, '%', 0.2),
       err('creep-1@100kPa', 'primary', 12, 0.031, 'mm', 0.09)],
@@ -587,13 +801,32 @@ try {
     nrmse_before: 0.13, nrmse_after: 0.04,
     delta_bic: { vs_base: -85.2, runners_up: [{ effect: 'bond_degradation', delta_bic: 31.4 }] },
     candidates: [{ step: 1, effect: 'rolling_resistance', signature_score: 0.8, fitted: true, parameters: [{ name: 'rolling_friction', unit: '-', value: 0.12, std: 0.02 }], rss: 1, nrmse: 0.05, bic: 10, delta_bic_vs_base: -70.1, note: '' },
-      { step: 1, effect: 'membrane_compliance', signature_score: 0.1, fitted: false, parameters: [], rss: 0, nrmse: 0, bic: 0, delta_bic_vs_base: 0, note: 'not tried' }], steps: [{ step: 1, added: 'rolling_resistance', nrmse_before: 0.13, nrmse_after: 0.05, delta_bic: -70.1, n_effective: 40.2 }],
+      { step: 1, effect: 'membrane_compliance', signature_score: 0.1, fitted: false, parameters: [], rss: 0, nrmse: 0, bic: 0, delta_bic_vs_base: 0, note: 'not tried' }], steps: [{ step: 1, added: 'rolling_resistance', nrmse_before: 0.13, nrmse_after: 0.05, delta_bic: -70.1, n_effective: 40.2 },
+      { step: 2, added: '', nrmse_before: 0.05, nrmse_after: 0.05, delta_bic: 0, n_effective: 40.2 }],
     n_readings: 103, n_effective: 40.2, runs_used: 118, verdict: 'rolling_resistance explains the residual',
   };
+  // The model curves of the report (diagnosis_json.cpp's curves_to_json shape) at the three
+  // σ3 of the dataset above: the base model 15 % and the final model 2 % below the lab's q,
+  // one creep stage at the run's σ3; the noise floor's tolerance 5 % of the lab range.
+  const eaGrid = Array.from({ length: 21 }, (_, i) => Number((0.1 * i).toFixed(3)));
+  const labQ = s3 => peakedShear(s3, mcSigma1(s3, 20, 35) - s3).map(r => Number(r.split(',')[6]));
+  const modelShear = f => set3.map(s3 => ({ kind: 'shear', stage: 0, confining_kPa: s3, stress_level: 0, axial_strain_pct: eaGrid,
+    deviator_kPa: labQ(s3).map(q => f * q), volumetric_strain_pct: eaGrid.map(e => 0.1 * e * f) }));
+  const modelCreep = f => ({ kind: 'creep', stage: 1, confining_kPa: runSigma3, stress_level: 0.5, time_min: [0.1, 0.3, 1, 3, 10],
+    axial_deformation_mm: [0.01, 0.02, 0.035, 0.05, 0.07].map(v => v * f) });
+  report.base_curves = [...modelShear(0.85), modelCreep(0.8)];
+  report.final_curves = [...modelShear(0.98), modelCreep(1)];
+  report.noise_floor = { seeds: 3, model_nrmse: 0.03, lab_nrmse: 0.01, tolerance_nrmse: 0.05, model_nrmse_per_curve: {} };
+  const fixtureEnvelope = (c, phi) => {
+    const sin = Math.sin(phi * Math.PI / 180);
+    return { circles: set3.map(s3 => ({ sigma3_kPa: s3, sigma1_kPa: mcSigma1(s3, c, phi), q_peak_kPa: mcSigma1(s3, c, phi) - s3, p_kPa: s3 + (mcSigma1(s3, c, phi) - s3) / 3, axial_strain_at_peak_pct: 1 })),
+      friction_angle_deg: phi, cohesion_kPa: c, n_pressures: 3, p_q_line: { slope: 6 * sin / (3 - sin), intercept_kPa: 6 * c * Math.cos(phi * Math.PI / 180) / (3 - sin) } };
+  };
+  report.strength_envelope = { base: fixtureEnvelope(12, 33), final: fixtureEnvelope(19, 34.8) };
   const diagScheme = await tinyScheme(1);
   diagScheme.loading.stress_levels = [0.5];
   diagScheme.loading.stage_durations_min = [1];
-  const stored = { id: fixtureId, dataset_id: 1, status: 'done', progress_pct: 100, created_at: '2026-01-01T00:00:00Z', finished_at: '2026-01-01T01:00:00Z', error: null,
+  const stored = { id: fixtureId, dataset_id: three.id, status: 'done', progress_pct: 100, created_at: '2026-01-01T00:00:00Z', finished_at: '2026-01-01T01:00:00Z', error: null,
     options: { budget_runs: 24, seed: 1 }, scheme: diagScheme };
   let rerunBody = null;
   await page.route(u => /\/datasets\/\d+\/diagnose$/.test(new URL(u).pathname), r => {
@@ -623,7 +856,53 @@ try {
     `parameters in lab units with the form's names (${params.map(p => p.join(' ')).join('; ')})`);
   const untried = await page.$$eval('#diagnosis-candidates-table tr', rs => rs.slice(1).map(r => [...r.children].map(c => c.textContent)));
   check(untried[1]?.[2] === 'not fitted' && untried[1]?.[4] === '—' && untried[1]?.[5] === '—', `an untried candidate shows no NRMSE or BIC (${untried[1]?.join(' | ')})`);
+  // The verdict in one sentence first, then the curves per σ3 with the band, the envelope.
+  await page.waitForSelector(`#diagnosis-q-${runSigma3} .u-over`, { timeout: 15000 }).catch(() => {});
+  await page.waitForSelector('#diagnosis-envelope-table', { timeout: 15000 }).catch(() => {});
+  const plain = await page.textContent('#diagnosis-plain-verdict');
+  const plainFirst = await page.evaluate(() => !!(document.querySelector('#diagnosis-plain-verdict').compareDocumentPosition(document.querySelector('#diagnosis-before')) & Node.DOCUMENT_POSITION_FOLLOWING));
+  check(/rolling resistance/.test(plain) && /seating error/.test(plain) && /membrane compliance/.test(plain) && /13\.0 %/.test(plain) && /4\.0 %/.test(plain) && plainFirst && plain.split('. ').length === 1,
+    `the verdict comes first in one plain sentence (${plain})`);
+  const sections = await page.$$eval('.sigma3-curves', ss => ss.map(s => Number(s.dataset.sigma3)));
+  check(JSON.stringify(sections) === JSON.stringify(set3), `one block of model-vs-lab curves per σ3 (${sections.join(', ')} kPa)`);
+  for (const s3 of set3) {
+    const panel = await page.$eval(`#diagnosis-q-${String(s3).replace(/\W/g, '_')}`, f => ({ lab: Number(f.dataset.lab), base: Number(f.dataset.base), final: Number(f.dataset.final),
+      band: Number(f.dataset.band), upper: [...f.chart.series.values()].find(s => /upper/.test(s.name))?.points[5], fin: f.chart.series.get('final model (kept effects)')?.points[5],
+      labPts: f.chart.series.get('lab')?.points })).catch(() => ({}));
+    const q = labQ(s3), h = 0.05 * (Math.max(...q) - Math.min(...q));
+    const finalApi = report.final_curves.find(c => c.kind === 'shear' && c.confining_kPa === s3);
+    check(panel.lab === 21 && panel.base === 21 && panel.final === 21 && Math.abs(panel.band - h) < 1e-9 * h &&
+      Math.abs(panel.fin?.[1] - finalApi.deviator_kPa[5]) < 1e-12 && Math.abs(panel.upper?.[1] - (finalApi.deviator_kPa[5] + h)) < 1e-9 &&
+      panel.labPts?.every((p, i) => Math.abs(p[1] - q[i]) < 1e-9),
+      `σ3 ${s3} kPa: q-εa with the 21 lab readings of that σ3, base and final model as the report's, band ±${h.toFixed(2)} kPa (5 % of the lab range)`);
+  }
+  const volPanels = await page.$$eval('figure[id^="diagnosis-vol-"]', fs => fs.length);
+  const creepPanel = await page.$eval(`#diagnosis-creep-${runSigma3}-1`, f => ({ log: f.chart.u?.scales.x.distr === 3, final: Number(f.dataset.final) })).catch(() => ({}));
+  check(volPanels === 3 && creepPanel.log && creepPanel.final === 5, `εv-εa for each σ3 (${volPanels}) and creep stage 1 on log time (${JSON.stringify(creepPanel)})`);
+  const diagEnv = await page.$$eval('#diagnosis-envelope-table tr', rs => rs.slice(1).map(r => [r.children[0].textContent, r.querySelector('.envelope-c').textContent, r.querySelector('.envelope-phi').textContent]));
+  check(JSON.stringify(diagEnv) === JSON.stringify([['lab', '20.0', '35.0'], ['calibrated base', '12.0', '33.0'], ['final model', '19.0', '34.8']]),
+    `the envelope of the lab (GET /datasets/{id}/envelope), the calibrated base and the final model side by side (${diagEnv.map(r => r.join(' ')).join('; ')})`);
+  const stepTwo = await page.$$eval('#diagnosis-steps tr', rs => rs[2]?.children[1]?.textContent);
+  const crushRow = await page.$$eval('#diagnosis-parameters tr', rs => rs.map(r => [...r.children].map(c => c.textContent)).find(r => /crush/.test(r[0])) || []);
+  check(stepTwo === 'nothing kept' && crushRow[0] === 'grain crushing' && /do not crush/.test(crushRow[1]) && !/0 MPa/.test(crushRow.join(' ')),
+    `wording: a step that kept nothing says so ("${stepTwo}"), crushability 0 reads "${crushRow.slice(0, 2).join(' = ')}"`);
+  check(/membrane_compliance/.test(afterTitle), `the "after" title names the artefact kept as a correction too (${afterTitle})`);
   await bothWidths(page, '07_diagnosis_report');
+  await page.setViewportSize({ width: 390, height: 844 });
+  await page.waitForTimeout(200);
+  await page.locator(`#diagnosis-q-${runSigma3}`).screenshot({ path: path.join(shots, '07c_diagnosis_q_panel_390.png') });
+  await page.locator('#diagnosis-envelope').screenshot({ path: path.join(shots, '07c_diagnosis_envelope_390.png') });
+  // Mohr circles are circles: as many kPa per pixel on τ as on σ', at either width.
+  const aspect = () => page.$eval('#diagnosis-mohr', f => { const u = f.chart.u, x = u.scales.x, y = u.scales.y;
+    return ((y.max - y.min) / u.bbox.height) / ((x.max - x.min) / u.bbox.width); });
+  const aspect390 = await aspect();
+  await page.setViewportSize({ width: 1440, height: 900 });
+  await page.waitForTimeout(200);
+  const aspect1440 = await aspect();
+  check(Math.abs(aspect390 - 1) < 0.15 && Math.abs(aspect1440 - 1) < 0.15, `the Mohr plot keeps equal scales (kPa/px on τ over σ': ${aspect390.toFixed(3)} at 390 px, ${aspect1440.toFixed(3)} at 1440 px)`);
+  await page.locator('#diagnosis-envelope').screenshot({ path: path.join(shots, '07c_diagnosis_envelope_1440.png') });
+  await printCheck(page, '07_diagnosis_report', ['.print-header', '#diagnosis-plain-verdict', `#diagnosis-q-${runSigma3}`, '#diagnosis-envelope-table'],
+    ['#diagnose-button', '#diagnoses-table', 'nav', '#diagnosis-print']);
   const fallbackLine = await page.textContent('#diagnosis-model-scheme');
   check(/scheme diagnosed with the fitted values/.test(fallbackLine) && !(await page.$('#diagnosis-run-condition')),
     `a report without model_schemes says the button runs the scheme diagnosed (${fallbackLine})`);
@@ -678,6 +957,21 @@ try {
     ranScheme.micro?.friction === 0.37 && ranScheme.loading?.stress_levels?.length === 1 && ranScheme.name === 'tiny (calibrated, 200 kPa)',
     `"run with these parameters" posts the calibrated model's scheme at the σ3 picked (run #${modelRun}: ${ranScheme.name}, ${ranScheme.specimen?.lateral_boundary}, σ3 ${ranScheme.loading?.confining_pressure_kPa} kPa)`);
   await page.unrouteAll();
+
+  // ---- 5b. a shear-only run: its creep plots say there is no creep stage -----------------
+  const shearOnly = await tinyScheme(1);
+  shearOnly.loading.stress_levels = [];
+  shearOnly.loading.stage_durations_min = [];
+  const shearRun = (await (await post('/runs', { scheme: shearOnly })).json()).id;
+  for (let t = Date.now(); Date.now() - t < RUN_TIMEOUT_MS;) {
+    if (['done', 'failed', 'cancelled'].includes((await (await fetch(`${base}/runs/${shearRun}`)).json()).status)) break;
+    await new Promise(r => setTimeout(r, 500));
+  }
+  await page.goto(`${base}/#/runs/${shearRun}`);
+  await page.waitForFunction(() => /no creep stage/.test(document.querySelector('#plot-creep .plot-empty')?.textContent || ''), null, { timeout: 20000 }).catch(() => {});
+  const emptyTexts = await page.$$eval('#plot-creep .plot-empty, #plot-creep-log .plot-empty, #plot-creep-timeline .plot-empty', es => es.map(e => (e.hidden ? '(hidden) ' : '') + e.textContent));
+  check(emptyTexts.length === 3 && emptyTexts.every(t => t === 'no creep stage in this run (shear only)'),
+    `after a shear-only run the creep plots say so (${emptyTexts.join(' | ')})`);
 
   // ---- 6. paged lists: the datasets table shows one page (50) and a "more" control ------
   const tinyCsv = 'confining_kPa,axial_strain_pct,q_kPa\n100,0.5,80\n100,1,120\n';
