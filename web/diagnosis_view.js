@@ -201,7 +201,7 @@ export class DiagnosisView {
 
   // The plan's numbers on #diagnose-cost belong to the form as it was: gone while it changes.
   clearCostData() {
-    for (const k of ['runsLow', 'runsHigh', 'minutesLow', 'minutesHigh']) delete this.cost.dataset[k];
+    for (const k of ['runsLow', 'runsHigh', 'minutesLow', 'minutesExpected', 'minutesHigh']) delete this.cost.dataset[k];
   }
 
   // The cost of the diagnosis start() would request, as the service plans it
@@ -227,9 +227,10 @@ export class DiagnosisView {
       this.cost.dataset.runsHigh = String(plan.model_runs_at_most);
       this.cost.dataset.minutesLow = String(m.low);
       this.cost.dataset.minutesHigh = String(m.high);
+      this.cost.dataset.minutesExpected = String(m.expected);
       this.cost.replaceChildren(el('strong', {}, 'Cost: '),
         `${plan.model_runs_low} to ${plan.model_runs_at_most} model runs, each ${engineRuns} DEM run${engineRuns === 1 ? '' : 's'} of ≈ ${plan.grains} grains (σ3 ${pressures})`,
-        ` · in all about ${rangeText(m.low, m.high)} with ${o.concurrency} at once`);
+        ` · in all about ${minutesText(m.expected)} expected (${rangeText(m.low, m.high)}) with ${Math.min(o.concurrency, o.batch_runs)} at once`);
     } catch (err) {
       if (seq !== this.costSeq) return;
       this.cost.replaceChildren(el('strong', {}, 'Cost: '), `unknown (${err.problem?.field ? err.problem.field + ': ' : ''}${err.message})`);

@@ -60,6 +60,8 @@ DiagnosisPlan plan_diagnosis(const LabDataset& lab, const ForwardModel& model, c
     const int k = static_cast<int>(model.base_parameters().size());
     p.model_runs_low =
         options.budget_runs + std::max(0, options.noise_seeds - 1) + (options.finite_difference_uncertainty ? k : 0);
+    const int steps = std::max(1, options.max_effects);
+    p.model_runs_expected = p.model_runs_low + (std::max(0, p.model_runs - p.model_runs_low) + steps - 1) / steps;
     std::vector<double> pressures;
     for (const auto& c : lab.curves)
         if (std::none_of(pressures.begin(), pressures.end(),

@@ -228,6 +228,11 @@ struct DiagnosisPlan {
     // runs, k = base parameters): budget_runs + (noise_seeds - 1) + (fd uncertainty ? k : 0).
     // The effect search (signatures, candidate fits) comes on top of it.
     int model_runs_low = 0;
+    // A diagnosis that searches one effect step: model_runs_low plus the search's share of
+    // one of max_effects steps, ceil((model_runs - model_runs_low) / max_effects). The
+    // bound counts every step with every candidate passing BIC; most diagnoses stop after
+    // one step (measured on the outside suite: docs/diagnosis.md section 5).
+    int model_runs_expected = 0;
     int engine_runs_per_model_run = 1;
 };
 DiagnosisPlan plan_diagnosis(const LabDataset& lab, const ForwardModel& model, const DiagnoseOptions& options);

@@ -42,6 +42,7 @@ DiagnosisCost plan_diagnosis_cost(const diagnose::LabDataset& lab, const protoco
     const int at_once = std::max(1, std::min(options.concurrency, options.batch_runs));
     const auto rounds = [&](int runs) { return std::ceil(static_cast<double>(runs) / at_once); };
     cost.minutes_low = rounds(cost.plan.model_runs_low) * cost.minutes_per_model_run.low;
+    cost.minutes_expected = rounds(cost.plan.model_runs_expected) * cost.minutes_per_model_run.typical;
     cost.minutes_high = rounds(cost.plan.model_runs) * cost.minutes_per_model_run.high;
     return cost;
 }
@@ -55,11 +56,12 @@ json diagnosis_cost_to_json(const DiagnosisCost& cost, const diagnose::DiagnoseO
                               {"minutes_per_engine_run", minutes_json(c.minutes)}});
     return {{"model_runs_at_most", cost.plan.model_runs},
             {"model_runs_low", cost.plan.model_runs_low},
+            {"model_runs_expected", cost.plan.model_runs_expected},
             {"engine_runs_per_model_run", cost.plan.engine_runs_per_model_run},
             {"grains", cost.grains},
             {"lab_conditions", conditions},
             {"minutes_per_model_run", minutes_json(cost.minutes_per_model_run)},
-            {"minutes_estimate", {{"low", cost.minutes_low}, {"high", cost.minutes_high}}},
+            {"minutes_estimate", {{"low", cost.minutes_low}, {"expected", cost.minutes_expected}, {"high", cost.minutes_high}}},
             {"options", io::diagnose_options_to_json(options)}};
 }
 

@@ -9,6 +9,7 @@
 //               stages), times packings_per_run; the whole diagnosis is
 //               ceil(model runs / concurrency) model runs one after another:
 //               low = ceil(low runs / c) x the quiet-machine minutes,
+//               expected = ceil(expected runs / c) x the typical minutes,
 //               high = ceil(runs at most / c) x the loaded-machine minutes.
 #include <vector>
 
@@ -39,7 +40,9 @@ struct DiagnosisCost {
     long long grains = 0;          // soil grains of one engine run (the calibration specimen)
     std::vector<PlannedCondition> conditions;
     MinutesRange minutes_per_model_run;            // packings_per_run x the sum over conditions
-    double minutes_low = 0.0, minutes_high = 0.0;  // the whole diagnosis at options.concurrency
+    // The whole diagnosis at options.concurrency: low, expected (model_runs_expected at the
+    // typical minutes) and high.
+    double minutes_low = 0.0, minutes_expected = 0.0, minutes_high = 0.0;
 };
 
 // Starts nothing. Throws std::invalid_argument (the engine's message) when the dataset has

@@ -92,10 +92,19 @@ TEST_CASE("the diagnosis plan states runs and minutes from the engine's plan and
           conditions[1]["minutes_per_engine_run"]["typical"].get<double>());
     CHECK(plan["minutes_per_model_run"]["low"] == Approx(sum_low));
     CHECK(plan["minutes_per_model_run"]["high"] == Approx(sum_high));
-    const int c = plan["options"]["concurrency"];
+    // Runs at once: a batch's runs over the evaluation threads.
+    const int c = std::min(plan["options"]["concurrency"].get<int>(), plan["options"]["batch_runs"].get<int>());
     const auto rounds = [c](const json& runs) { return std::ceil(runs.get<double>() / c); };
     CHECK(plan["minutes_estimate"]["low"] == Approx(rounds(plan["model_runs_low"]) * sum_low));
     CHECK(plan["minutes_estimate"]["high"] == Approx(rounds(plan["model_runs_at_most"]) * sum_high));
+    // Expected: the low runs plus one of max_effects search steps, at the typical minutes.
+    const int low = plan["model_runs_low"], most = plan["model_runs_at_most"];
+    const int steps = plan["options"]["max_effects"];
+    CHECK(plan["model_runs_expected"] == low + (most - low + steps - 1) / steps);
+    CHECK(plan["minutes_estimate"]["expected"] ==
+          Approx(rounds(plan["model_runs_expected"]) * plan["minutes_per_model_run"]["typical"].get<double>()));
+    CHECK(plan["minutes_estimate"]["low"].get<double>() <= plan["minutes_estimate"]["expected"].get<double>());
+    CHECK(plan["minutes_estimate"]["expected"].get<double>() <= plan["minutes_estimate"]["high"].get<double>());
 
     SECTION("the budget and the packings change it") {
         const auto more = srv.post(path, json{{"scheme_id", 1}, {"budget_runs", 20}}).body;

@@ -777,6 +777,10 @@ try {
   check(planBody.budget_runs === 24 && shownRuns[0] === planned.model_runs_low && shownRuns[1] === planned.model_runs_at_most &&
     cost.includes(`${planned.model_runs_low} to ${planned.model_runs_at_most} model runs`) && /min|h/.test(cost),
     `the diagnosis shows the service's plan before start: ${planned.model_runs_at_most} model runs at most (${cost.trim()})`);
+  const shownExpected = await page.$eval('#diagnose-cost', e => Number(e.dataset.minutesExpected));
+  check(shownExpected === planned.minutes_estimate.expected && planned.minutes_estimate.low <= shownExpected &&
+    shownExpected <= planned.minutes_estimate.high && /expected/.test(cost),
+    `the cost names the expected minutes of the plan (${planned.minutes_estimate.expected} min)`);
   check((await getJSONFromPage(page, '/diagnoses')).diagnoses.length === 0, 'the cost before start queued no diagnosis');
   const unnamedDiag = await unnamedControls(page);
   check(unnamedDiag.length === 0, `every control of the diagnosis page has an accessible name (${unnamedDiag.join(', ')})`);
