@@ -78,32 +78,6 @@ function fixtureSnapshot(nGrains, nMembrane) {
     measurement_spheres: [-60, 0, 60].map(z => ({ center_mm: [0, 0, z], radius_mm: 20 })) };
 }
 
-// The 3D card's canvas: share of drawn (non-white) pixels and the time of two orbit frames.
-const viewerPixels = page => page.evaluate(async () => {
-  const card = document.querySelector('#specimen-card'), v = card.specimen;
-  if (!v?.renderer) return { ok: false };
-  const c = v.renderer.domElement;
-  v.renderer.render(v.scene, v.camera);
-  const probe = document.createElement('canvas');
-  probe.width = c.width; probe.height = c.height;
-  const ctx = probe.getContext('2d');
-  ctx.drawImage(c, 0, 0);
-  const px = ctx.getImageData(0, 0, c.width, c.height).data;
-  let coloured = 0;
-  for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) coloured++;
-  // Two orbit frames, each rendered and finished (readPixels waits for the GPU): logged,
-  // not asserted (software WebGL here; the figure says nothing about a GPU).
-  const gl = v.renderer.getContext(), one = new Uint8Array(4);
-  const t0 = performance.now();
-  for (let k = 0; k < 2; k++) {
-    v.camera.position.applyAxisAngle(new v.THREE.Vector3(0, 1, 0), 0.05);
-    v.camera.lookAt(v.controls.target);
-    v.renderer.render(v.scene, v.camera);
-    gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
-  }
-  return { ok: true, share: coloured / (px.length / 4), ms: (performance.now() - t0) / 2, grains: Number(card.dataset.grains), chains: v.chainCount };
-});
-
 // Share of drawn pixels of the 3D canvas as it stands (no camera move).
 const drawnShare = page => page.evaluate(() => {
   const v = document.querySelector('#specimen-card').specimen, c = v.renderer.domElement;
@@ -117,6 +91,27 @@ const drawnShare = page => page.evaluate(() => {
   for (let i = 0; i < px.length; i += 4) if (px[i] < 245 || px[i + 1] < 245 || px[i + 2] < 245) coloured++;
   return coloured / (px.length / 4);
 });
+
+// The 3D card's canvas: share of drawn (non-white) pixels and the time of two orbit frames.
+const viewerPixels = async page => {
+  if (!(await page.evaluate(() => Boolean(document.querySelector('#specimen-card')?.specimen?.renderer)))) return { ok: false };
+  const share = await drawnShare(page);
+  // Two orbit frames, each rendered and finished (readPixels waits for the GPU): logged,
+  // not asserted (software WebGL here; the figure says nothing about a GPU).
+  const frames = await page.evaluate(() => {
+    const card = document.querySelector('#specimen-card'), v = card.specimen;
+    const gl = v.renderer.getContext(), one = new Uint8Array(4);
+    const t0 = performance.now();
+    for (let k = 0; k < 2; k++) {
+      v.camera.position.applyAxisAngle(new v.THREE.Vector3(0, 1, 0), 0.05);
+      v.camera.lookAt(v.controls.target);
+      v.renderer.render(v.scene, v.camera);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, one);
+    }
+    return { ms: (performance.now() - t0) / 2, grains: Number(card.dataset.grains), chains: v.chainCount };
+  });
+  return { ok: true, share, ...frames };
+};
 
 let failures = 0;
 const log = (...a) => console.log('[browser-test]', ...a);
