@@ -1,6 +1,7 @@
 #include "server/runs/run_service.hpp"
 
 #include "server/http/problem.hpp"
+#include "server/store/scheme_store.hpp"
 
 namespace triax::service {
 
@@ -39,10 +40,7 @@ json RunService::submit(std::int64_t scheme_id, std::optional<int> threads, std:
             .with_limit("1 <= threads <= " + std::to_string(max_threads_));
     const auto id = jobs_.submit(
         [&](Database& db) {
-            auto name = db.prepare("SELECT name FROM schemes WHERE id = ?");
-            name.bind_all(scheme_id);
-            if (!name.step())
-                throw not_found("scheme " + std::to_string(scheme_id) + " does not exist").at_field("/scheme_id");
+            const auto name = SchemeStore::name_in(db, scheme_id, "/scheme_id");
             if (packing_id) {
                 auto pk = db.prepare("SELECT 1 FROM packings WHERE id = ?");
                 pk.bind_all(*packing_id);
@@ -52,7 +50,7 @@ json RunService::submit(std::int64_t scheme_id, std::optional<int> threads, std:
             auto ins = db.prepare(
                 "INSERT INTO runs(scheme_id, name, status, threads, rerun_of, created_at, packing_id) VALUES (?, ?, "
                 "'queued', ?, ?, ?, ?)");
-            ins.bind_all(scheme_id, name.text(0), n_threads, rerun_of, utc_now(), packing_id);
+            ins.bind_all(scheme_id, name, n_threads, rerun_of, utc_now(), packing_id);
             ins.run();
             return db.last_insert_id();
         },
