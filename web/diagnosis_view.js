@@ -35,7 +35,7 @@ export const PARAMETERS = {
   compaction_friction_ratio: { label: 'compaction friction ratio', unit: '–', factor: 1, field: '/specimen/compaction_friction_ratio',
     apply: (s, v) => { s.specimen ||= {}; s.specimen.compaction_friction_ratio = v; } },
   rolling_friction: { label: 'rolling friction', unit: '–', factor: 1, field: '/micro/rolling_friction',
-    apply: (s, v) => { s.micro.rolling_friction = v; s.effects.rolling_resistance = true; s.effects.rolling_friction = v; } },
+    apply: (s, v) => { s.micro.rolling_friction = v; } },
   grain_crushability: { label: 'crushing strength (from crushability 0.6 MPa / x)', unit: 'MPa', value: v => (v > 0 ? 0.6 / v : 0), field: '/micro/crushing_strength_MPa',
     apply: (s, v) => { s.micro.crushing_strength_MPa = v > 0 ? 0.6 / v : 0; } },
   extra_bond_damage_rate: { label: 'bond corrosion scale (1 + x)', unit: '–', value: v => 1 + v, field: '/effects/bond_corrosion_scale',
@@ -79,7 +79,7 @@ export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed
 export function modelSchemeText(s) {
   const fx = s.effects || {}, micro = s.micro || {}, loading = s.loading || {};
   const stages = loading.stress_levels?.length || 0;
-  const effects = [fx.rolling_resistance && `rolling friction ${num(micro.rolling_friction)}`,
+  const effects = [micro.rolling_friction > 0 && `rolling friction ${num(micro.rolling_friction)}`,
     micro.crushing_strength_MPa > 0 && `crushable grains (${num(micro.crushing_strength_MPa)} MPa)`,
     fx.accelerated_bond_corrosion && `bond corrosion ×${num(fx.bond_corrosion_scale)}`,
     fx.contact_creep_viscosity && `contact creep (slip-hardening ${num(s.creep?.slip_hardening_length_um)} µm)`,

@@ -3,7 +3,9 @@
 // Every field carries its unit in its name: specimen.diameter_mm, loading.confining_pressure_kPa,
 // loading.stage_durations_min, ... Every field is optional; a missing one keeps the
 // paper's default (Tables 1-3), so {} is group B. Unknown fields are rejected (a typo
-// would otherwise silently run the default).
+// would otherwise silently run the default). The fields are the table of scheme_fields.hpp;
+// its retired fields are still read from stored documents but are not in the schema, so
+// the service refuses them in new ones.
 #include <stdexcept>
 #include <string>
 
