@@ -44,18 +44,15 @@ export const PARAMETERS = {
     apply: (s, v) => { s.effects.contact_creep_viscosity = v > 0; if (v > 0) s.creep.slip_hardening_length_um = v * 1e6; } },
   seating_strain: { label: 'seating displacement (strain × height)', unit: 'mm', scheme: (s, v) => v * s.specimen.height_mm, field: '/effects/seating_displacement_mm',
     apply: (s, v) => { s.effects.seating_error = true; s.effects.seating_displacement_mm = v * s.specimen.height_mm; } },
-  // K_m = 4 E_m t_m / D [Pa] as the membrane modulus E_m that gives it with the scheme's t_m and D.
-  membrane_stiffness: { label: 'membrane modulus (from K_m = 4 E_m t_m / D)', unit: 'kPa', scheme: (s, v) => membraneModulusKPa(s, v), field: '/effects/membrane_modulus_kPa',
-    apply: (s, v) => { s.effects.membrane_compliance = true; s.effects.membrane_modulus_kPa = membraneModulusKPa(s, v); } },
+  // K_m = 4 E_m t_m / D [Pa] as the membrane modulus E_m: the service's scheme_value (kPa).
+  membrane_stiffness: { label: 'membrane modulus (from K_m = 4 E_m t_m / D)', unit: 'kPa', field: '/effects/membrane_modulus_kPa',
+    apply: (s, v) => { s.effects.membrane_compliance = true; s.effects.membrane_modulus_kPa = v; } },
 };
-
-function membraneModulusKPa(s, km) {
-  return km * s.specimen.diameter_mm / (4 * (s.effects?.membrane_thickness_mm || 0.5)) / 1e3;
-}
 
 function labValue(p, scheme) {
   const d = PARAMETERS[p.name];
   if (!d) return { label: p.name.replace(/_/g, ' '), unit: p.unit || '', value: p.value, std: p.std, field: '' };
+  if (p.scheme_value != null) return { label: d.label, unit: d.unit, value: p.scheme_value, std: p.scheme_std ?? null, field: d.field };
   if (d.value) return { label: d.label, unit: d.unit, value: d.value(p.value), std: null, field: d.field };
   if (d.scheme) return { label: d.label, unit: d.unit, value: scheme ? d.scheme(scheme, p.value) : p.value, std: scheme && p.std != null ? d.scheme(scheme, p.std) : null, field: d.field };
   return { label: d.label, unit: d.unit, value: p.value * d.factor, std: p.std != null ? p.std * d.factor : null, field: d.field };
@@ -66,7 +63,7 @@ function labValue(p, scheme) {
 export function applyParameters(scheme, parameters) {
   const s = structuredClone(scheme);
   s.micro ||= {}; s.creep ||= {}; s.effects ||= {};
-  for (const p of parameters || []) PARAMETERS[p.name]?.apply(s, p.value);
+  for (const p of parameters || []) PARAMETERS[p.name]?.apply(s, p.scheme_value ?? p.value);
   return s;
 }
 

@@ -1,6 +1,7 @@
 #include "server/diagnoses/diagnosis_service.hpp"
 
 #include "engine/diagnose/diagnosis.hpp"
+#include "server/diagnoses/membrane_modulus.hpp"
 #include "server/diagnoses/model_schemes.hpp"
 #include "server/http/problem.hpp"
 #include "server/io/diagnosis_json.hpp"
@@ -37,8 +38,9 @@ json diagnosis_json(Statement& st) {
 
 class StreamingDiagnoseObserver : public diagnose::DiagnoseObserver {
 public:
-    StreamingDiagnoseObserver(Database& db, EventLog& events, std::int64_t id, std::function<bool()> cancelled)
-        : db_(db), events_(events), id_(id), cancelled_(std::move(cancelled)) {}
+    StreamingDiagnoseObserver(Database& db, EventLog& events, std::int64_t id, std::function<bool()> cancelled,
+                              const protocol::TestScheme& scheme)
+        : db_(db), events_(events), id_(id), cancelled_(std::move(cancelled)), scheme_(scheme) {}
     void on_progress(double percent, std::string_view stage) override {
         const auto now = std::chrono::steady_clock::now();
         if (now - last_ < std::chrono::milliseconds(250) && percent < 100.0) return;
@@ -52,7 +54,9 @@ public:
         events_.notify();
     }
     void on_candidate(const diagnose::CandidateResult& c) override {
-        events_.append(id_, "candidate", io::candidate_to_json(c));
+        auto candidate = io::candidate_to_json(c);
+        add_membrane_modulus(candidate["parameters"], scheme_);
+        events_.append(id_, "candidate", candidate);
     }
     bool cancelled() const override { return cancelled_(); }
 
@@ -61,6 +65,7 @@ private:
     EventLog& events_;
     std::int64_t id_;
     std::function<bool()> cancelled_;
+    const protocol::TestScheme& scheme_;
     std::chrono::steady_clock::time_point last_{};
 };
 
@@ -110,16 +115,20 @@ json DiagnosisService::rerun(std::int64_t id) {
 }
 
 json DiagnosisService::status(std::int64_t id) {
-    return db_.with([&](Database& db) {
+    auto d = db_.with([&](Database& db) {
         auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
         st.bind_all(id);
         if (!st.step()) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
         // The scheme diagnosed (the user's; the report's model_schemes are the calibrated
         // model's).
-        auto d = diagnosis_json(st);
-        d["scheme"] = json::parse(st.text(8)).value("scheme", json(nullptr));
-        return d;
+        auto out = diagnosis_json(st);
+        out["scheme"] = json::parse(st.text(8)).value("scheme", json(nullptr));
+        return out;
     });
+    // K_m as the scheme's membrane modulus, with the scheme diagnosed (accepted, so it parses).
+    if (d["report"].is_object() && d["scheme"].is_object())
+        add_membrane_modulus_to_report(d["report"], io::scheme_from_json(d["scheme"]));
+    return d;
 }
 
 json DiagnosisService::list(const PageRequest& page) {
@@ -157,7 +166,7 @@ JobWork::StoreResult DiagnosisService::run(std::int64_t id, const std::function<
     const auto lab = load_dataset_(dataset_id);
     const auto scheme = io::scheme_from_json(request["scheme"]);
     const auto options = io::diagnose_options_from_json(request["options"]);
-    StreamingDiagnoseObserver observer(db_, events_, id, cancelled);
+    StreamingDiagnoseObserver observer(db_, events_, id, cancelled, scheme);
     json doc = remote_ ? remote_(id, request, lab, observer)
                        : io::diagnosis_report_to_json(diagnose::run_diagnosis(lab, scheme, options, observer));
     add_model_schemes(doc, scheme, lab, options);
