@@ -1,9 +1,11 @@
 #include "server/ensembles/ensemble_service.hpp"
 
 #include "server/http/problem.hpp"
+#include "server/io/ensemble_json.hpp"
 #include "server/io/scheme_json.hpp"
 #include "server/scaleout/ensemble.hpp"
 #include "server/scaleout/task_runner.hpp"
+#include "server/store/scheme_store.hpp"
 
 namespace triax::service {
 
@@ -48,13 +50,11 @@ json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_te
             .at_field("/concurrency")
             .with_limit("1 <= concurrency <= " + std::to_string(max_concurrency_));
     const auto id = jobs_.submit([&](Database& db) {
-        auto name = db.prepare("SELECT name FROM schemes WHERE id = ?");
-        name.bind_all(scheme_id);
-        if (!name.step()) throw not_found("scheme " + std::to_string(scheme_id) + " does not exist").at_field("/scheme_id");
+        const auto name = SchemeStore::name_in(db, scheme_id, "/scheme_id");
         auto ins = db.prepare(
             "INSERT INTO ensembles(scheme_id, name, seeds, status, members_total, concurrency, created_at) "
             "VALUES (?, ?, ?, 'queued', ?, ?, ?)");
-        ins.bind_all(scheme_id, name.text(0), seeds_text, static_cast<std::int64_t>(members), n, utc_now());
+        ins.bind_all(scheme_id, name, seeds_text, static_cast<std::int64_t>(members), n, utc_now());
         ins.run();
         return db.last_insert_id();
     });
@@ -125,15 +125,15 @@ JobWork::StoreResult EnsembleService::run(std::int64_t id, const std::function<b
     };
     const auto results = scaleout::run_tasks_in_threads(tasks, handler, concurrency, on_done);
     if (cancelled()) throw JobCancelled();
-    std::vector<scaleout::EnsembleMember> members;
+    std::vector<diagnose::EnsembleMember> members;
     for (std::size_t i = 0; i < seeds.size(); ++i) members.push_back(scaleout::member_from_result(seeds[i], results[i]));
-    const auto summary = scaleout::summarise_ensemble(name, std::move(members));
+    const auto summary = diagnose::summarise_ensemble(name, std::move(members));
     if (summary.ok == 0) {
         const auto& first = summary.members.front();
         throw std::runtime_error("no member ran to its end; seed " + std::to_string(first.seed) + ": " + first.error);
     }
-    return [id, doc = scaleout::ensemble_to_json(summary, true).dump(), shear = scaleout::shear_band_csv(summary),
-            creep = scaleout::creep_band_csv(summary)](Database& db) {
+    return [id, doc = io::ensemble_to_json(summary, true).dump(), shear = io::shear_band_csv(summary),
+            creep = io::creep_band_csv(summary)](Database& db) {
         auto ins = db.prepare(
             "INSERT INTO ensemble_results(ensemble_id, summary_json, shear_band_csv, creep_band_csv) VALUES (?, ?, ?, ?)");
         ins.bind_all(id, doc, shear, creep);

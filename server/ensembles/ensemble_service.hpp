@@ -3,7 +3,7 @@
 // several seeds (packings) as ONE job of the queue. The job runs the members on threads of
 // this process (scaleout::run_tasks_in_threads, as `triax ensemble` does without mpirun),
 // counts them in `members_done` as they finish, and stores the summary (mean and band of
-// every curve, share of seeds in each creep regime; server/scaleout/ensemble.hpp) with
+// every curve, share of seeds in each creep regime; engine/diagnose/seed_ensemble.hpp) with
 // its 'done' in one transaction. State lives in `ensembles`, the result in
 // `ensemble_results`; the lifecycle is the JobService's (server/jobs/job_service.hpp): a job
 // left queued or running by a killed process is 'interrupted'. Ensembles have no event log.
