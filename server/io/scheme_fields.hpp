@@ -16,7 +16,7 @@ namespace triax::io {
 
 // JSON Schema bounds of a number, in lab units: min/max inclusive, above/below exclusive.
 struct Bounds {
-    std::optional<double> min, max, above, below;
+    std::optional<double> min{}, max{}, above{}, below{};
 };
 
 // A number: JSON /section/key in lab units, TestScheme field `si_name` (the name
