@@ -71,12 +71,8 @@ json RunService::rerun(std::int64_t id) {
 }
 
 json RunService::status(std::int64_t id) {
-    return db_.with([&](Database& db) {
-        auto st = db.prepare(std::string(kStatusColumns) + " WHERE r.id = ?");
-        st.bind_all(id);
-        if (!st.step()) throw not_found("run " + std::to_string(id) + " does not exist");
-        return status_row(st);
-    });
+    return db_.row(std::string(kStatusColumns) + " WHERE r.id = ?", id,
+                   NotFound::row("run", id), status_row);
 }
 
 bool RunService::exists(std::int64_t id) {

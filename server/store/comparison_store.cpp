@@ -21,22 +21,12 @@ json comparison_row(Statement& st) {
 
 std::int64_t ComparisonStore::insert(std::int64_t run_id, std::int64_t dataset_id, const json& result,
                                      const std::string& created_at) {
-    const auto text = result.dump();
-    return db_.transaction([&](Database& db) {
-        auto ins = db.prepare("INSERT INTO comparisons(run_id, dataset_id, result_json, created_at) VALUES (?, ?, ?, ?)");
-        ins.bind_all(run_id, dataset_id, text, created_at);
-        ins.run();
-        return db.last_insert_id();
-    });
+    return db_.insert("INSERT INTO comparisons(run_id, dataset_id, result_json, created_at) VALUES (?, ?, ?, ?)",
+                      run_id, dataset_id, result.dump(), created_at);
 }
 
 json ComparisonStore::get(std::int64_t id) {
-    return db_.with([&](Database& db) {
-        auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
-        st.bind_all(id);
-        if (!st.step()) throw NotFound("comparison " + std::to_string(id) + " does not exist");
-        return comparison_row(st);
-    });
+    return db_.row(std::string(kSelect) + " WHERE id = ?", id, NotFound::row("comparison", id), comparison_row);
 }
 
 json ComparisonStore::page(const PageRequest& page) {

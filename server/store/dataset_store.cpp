@@ -6,8 +6,6 @@ using nlohmann::json;
 
 namespace {
 
-std::string missing(std::int64_t id) { return "dataset " + std::to_string(id) + " does not exist"; }
-
 DatasetRow dataset_row(Statement& st) {
     DatasetRow r;
     r.id = st.int64(0);
@@ -24,33 +22,21 @@ const char* kSelect = "SELECT id, name, format, created_at, header_json FROM dat
 
 std::int64_t DatasetStore::insert(const std::string& name, const std::string& format, const std::string& dataset_json,
                                   const json& header, const std::string& created_at) {
-    const auto header_text = header.dump();
-    return db_.transaction([&](Database& db) {
-        auto ins = db.prepare(
-            "INSERT INTO datasets(name, format, dataset_json, header_json, created_at) VALUES (?, ?, ?, ?, ?)");
-        ins.bind_all(name, format, dataset_json, header_text, created_at);
-        ins.run();
-        return db.last_insert_id();
-    });
+    return db_.insert(
+        "INSERT INTO datasets(name, format, dataset_json, header_json, created_at) VALUES (?, ?, ?, ?, ?)", name,
+        format, dataset_json, header.dump(), created_at);
 }
 
 std::string DatasetStore::dataset_text(std::int64_t id, std::string* name) {
-    return db_.with([&](Database& db) {
-        auto st = db.prepare("SELECT name, dataset_json FROM datasets WHERE id = ?");
-        st.bind_all(id);
-        if (!st.step()) throw NotFound(missing(id));
-        if (name) *name = st.text(0);
-        return st.text(1);
-    });
+    return db_.row("SELECT name, dataset_json FROM datasets WHERE id = ?", id, NotFound::row("dataset", id),
+                   [&](Statement& st) {
+                       if (name) *name = st.text(0);
+                       return st.text(1);
+                   });
 }
 
 DatasetRow DatasetStore::row(std::int64_t id) {
-    return db_.with([&](Database& db) {
-        auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
-        st.bind_all(id);
-        if (!st.step()) throw NotFound(missing(id));
-        return dataset_row(st);
-    });
+    return db_.row(std::string(kSelect) + " WHERE id = ?", id, NotFound::row("dataset", id), dataset_row);
 }
 
 void DatasetStore::remove(std::int64_t id) {
@@ -58,7 +44,7 @@ void DatasetStore::remove(std::int64_t id) {
         auto del = db.prepare("DELETE FROM datasets WHERE id = ?");
         del.bind_all(id);
         del.run();
-        if (db.changes() == 0) throw NotFound(missing(id));
+        if (db.changes() == 0) throw NotFound::row("dataset", id);
     });
 }
 
