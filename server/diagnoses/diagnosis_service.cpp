@@ -122,7 +122,7 @@ json DiagnosisService::status(std::int64_t id) {
         // The scheme diagnosed (the user's; the report's model_schemes are the calibrated
         // model's).
         auto out = diagnosis_json(st);
-        out["scheme"] = json::parse(st.text(8)).value("scheme", json(nullptr));
+        out["scheme"] = io::without_retired_fields(json::parse(st.text(8)).value("scheme", json(nullptr)));
         return out;
     });
     // K_m as the scheme's membrane modulus, with the scheme diagnosed (accepted, so it parses).

@@ -222,6 +222,21 @@ TestScheme scheme_from_json(const json& j) {
     return s;
 }
 
+json without_retired_fields(json j) {
+    if (!j.is_object()) return j;
+    if (j.contains("effects") && j["effects"].is_object()) {
+        const auto& fx = j["effects"];
+        if (fx.contains("rolling_resistance") && fx["rolling_resistance"] == true) {
+            const json mu = fx.contains("rolling_friction") ? fx["rolling_friction"] : json(0.1);
+            if (!j.contains("micro") || !j["micro"].is_object()) j["micro"] = json::object();
+            j["micro"]["rolling_friction"] = mu;
+        }
+    }
+    for (const auto& f : retired_fields())
+        if (j.contains(f.section) && j[f.section].is_object()) j[f.section].erase(f.key);
+    return j;
+}
+
 json scheme_to_json(const TestScheme& s0) {
     TestScheme s = s0;
     json j = json::object();

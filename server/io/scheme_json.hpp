@@ -26,6 +26,11 @@ struct SchemeError : std::invalid_argument {
 // Parses and validates (TestScheme::validate). Throws SchemeError naming the pointer.
 protocol::TestScheme scheme_from_json(const nlohmann::json& j);
 
+// A stored document as it is served: its retired fields (scheme_fields.hpp) read into the
+// current ones (the rolling switch on: its value as micro.rolling_friction) and removed, the
+// rest untouched, so that a client can send it back as a new document.
+nlohmann::json without_retired_fields(nlohmann::json j);
+
 // The normalised scheme: every field present, lab units.
 nlohmann::json scheme_to_json(const protocol::TestScheme& s);
 

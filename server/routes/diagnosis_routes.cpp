@@ -65,7 +65,7 @@ DiagnoseRequest read_diagnose_request(Service& s, const httplib::Request& req, b
         }
     } else {
         if (!body["scheme_id"].is_number_integer()) throw unprocessable("scheme_id must be an integer").at_field("/scheme_id");
-        r.scheme = s.schemes.scheme(body["scheme_id"].get<std::int64_t>(), "/scheme_id");
+        r.scheme = io::without_retired_fields(s.schemes.scheme(body["scheme_id"].get<std::int64_t>(), "/scheme_id"));
         // Stored schemes passed validated_scheme when they were stored.
         r.parsed = io::scheme_from_json(r.scheme);
     }

@@ -84,7 +84,9 @@ void register_scheme_routes(Service& s) {
         send_json(res, s.schemes.page(page_request(req)));
     });
     s.route("GET", R"(/schemes/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
-        send_json(res, s.schemes.get(path_id(req)));
+        auto out = s.schemes.get(path_id(req));
+        out["scheme"] = io::without_retired_fields(std::move(out["scheme"]));
+        send_json(res, out);
     });
 }
 

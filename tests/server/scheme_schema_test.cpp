@@ -99,3 +99,27 @@ TEST_CASE("retired fields of stored schemes still read - new documents may not s
     CHECK(errors.front().pointer == "/effects/rolling_resistance");
     CHECK_FALSE(validator.validate(json::parse(R"({"loading": {"shear_strain_rate_pct_per_min": 1}})")).empty());
 }
+
+TEST_CASE("a stored scheme is served without its retired fields, their meaning kept", "[server][schema]") {
+    const json stored = json::parse(
+        R"({"name": "old", "micro": {"friction": 0.5, "rolling_friction": 0},
+            "effects": {"rolling_resistance": true, "rolling_friction": 0.25, "seating_error": false},
+            "loading": {"shear_strain_rate_pct_per_min": 0.01, "confining_pressure_kPa": 100}})");
+    const json served = triax::io::without_retired_fields(stored);
+    CHECK(served["micro"]["rolling_friction"] == 0.25);
+    CHECK(served["micro"]["friction"] == 0.5);
+    CHECK(served["effects"] == json{{"seating_error", false}});
+    CHECK(served["loading"] == json{{"confining_pressure_kPa", 100}});
+    // The same scheme as the parser reads the stored document, and the schema accepts it.
+    CHECK(triax::io::scheme_to_json(triax::io::scheme_from_json(served)) ==
+          triax::io::scheme_to_json(triax::io::scheme_from_json(stored)));
+    const triax::io::JsonSchemaValidator validator(json::parse(triax::io::scheme_schema_text()));
+    CHECK(validator.validate(served).empty());
+    // Switch off: micro.rolling_friction stands; a current document is unchanged.
+    const json off = triax::io::without_retired_fields(
+        json::parse(R"({"micro": {"rolling_friction": 0.05}, "effects": {"rolling_resistance": false, "rolling_friction": 0.3}})"));
+    CHECK(off["micro"]["rolling_friction"] == 0.05);
+    CHECK(off["effects"].empty());
+    const json current = triax::io::scheme_to_json(triax::protocol::TestScheme{});
+    CHECK(triax::io::without_retired_fields(current) == current);
+}
