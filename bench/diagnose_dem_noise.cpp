@@ -87,8 +87,7 @@ int main(int argc, char** argv) {
     }
     if (which == "all" || which == "effects") {
         Case r{"mu_r 0.3", base};
-        r.scheme.effects.rolling_resistance = true;
-        r.scheme.effects.rolling_friction = 0.3;
+        r.scheme.micro.rolling_friction = 0.3;
         cases.push_back(r);
         Case b{"breakage 3", base};
         b.scheme.effects.accelerated_bond_corrosion = true;
@@ -102,8 +101,6 @@ int main(int argc, char** argv) {
         for (std::uint64_t seed : {7, 11}) {
             Case r{"mu_r .25 s" + std::to_string(seed), base};
             r.scheme.seed = seed;
-            r.scheme.effects.rolling_resistance = true;
-            r.scheme.effects.rolling_friction = 0.25;
             r.scheme.micro.rolling_friction = 0.25;
             cases.push_back(r);
         }

@@ -185,6 +185,10 @@ void Service::register_routes() {
             std::rethrow_exception(ep);
         } catch (const ApiError& e) {
             send_problem(res, e, req.path);
+        } catch (const NotFound& e) {
+            auto problem = not_found(e.what());
+            if (!e.field.empty()) problem.at_field(e.field);
+            send_problem(res, problem, req.path);
         } catch (const StoreError& e) {
             if (e.code == SQLITE_FULL)
                 send_problem(res, ApiError(507, "Insufficient Storage", "the disk holding the store is full"), req.path);

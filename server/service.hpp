@@ -15,7 +15,11 @@
 #include "server/runs/run_executor.hpp"
 #include "server/runs/run_service.hpp"
 #include "server/scaleout/mpi_job_launcher.hpp"
+#include "server/store/comparison_store.hpp"
 #include "server/store/database.hpp"
+#include "server/store/dataset_store.hpp"
+#include "server/store/packing_store.hpp"
+#include "server/store/scheme_store.hpp"
 
 #include <httplib.h>
 
@@ -94,6 +98,11 @@ public:
     // Used by the route files.
     ServiceConfig config;
     Database db;
+    // The tables the routes read and write, one store each (no SQL in the routes).
+    SchemeStore schemes{db};
+    DatasetStore datasets{db};
+    PackingStore packings{db};
+    ComparisonStore comparisons{db};
     EventLog run_events;
     EventLog diagnosis_events;
     JobQueue queue;

@@ -38,7 +38,7 @@ export const PARAMETERS = {
   compaction_friction_ratio: { label: 'compaction friction ratio', unit: '–', factor: 1, field: '/specimen/compaction_friction_ratio',
     apply: (s, v) => { s.specimen ||= {}; s.specimen.compaction_friction_ratio = v; } },
   rolling_friction: { label: 'rolling friction', unit: '–', factor: 1, field: '/micro/rolling_friction',
-    apply: (s, v) => { s.micro.rolling_friction = v; s.effects.rolling_resistance = true; s.effects.rolling_friction = v; } },
+    apply: (s, v) => { s.micro.rolling_friction = v; } },
   // Crushability 0 means the grains do not crush (no strength at all is not what it says).
   grain_crushability: { label: 'crushing strength (from crushability 0.6 MPa / x)', unit: 'MPa', value: v => (v > 0 ? 0.6 / v : 0), field: '/micro/crushing_strength_MPa',
     none: { label: 'grain crushing', text: 'none (grains do not crush)' },
@@ -49,19 +49,16 @@ export const PARAMETERS = {
     apply: (s, v) => { s.effects.contact_creep_viscosity = v > 0; if (v > 0) s.creep.slip_hardening_length_um = v * 1e6; } },
   seating_strain: { label: 'seating displacement (strain × height)', unit: 'mm', scheme: (s, v) => v * s.specimen.height_mm, field: '/effects/seating_displacement_mm',
     apply: (s, v) => { s.effects.seating_error = true; s.effects.seating_displacement_mm = v * s.specimen.height_mm; } },
-  // K_m = 4 E_m t_m / D [Pa] as the membrane modulus E_m that gives it with the scheme's t_m and D.
-  membrane_stiffness: { label: 'membrane modulus (from K_m = 4 E_m t_m / D)', unit: 'kPa', scheme: (s, v) => membraneModulusKPa(s, v), field: '/effects/membrane_modulus_kPa',
-    apply: (s, v) => { s.effects.membrane_compliance = true; s.effects.membrane_modulus_kPa = membraneModulusKPa(s, v); } },
+  // K_m = 4 E_m t_m / D [Pa] as the membrane modulus E_m: the service's scheme_value (kPa).
+  membrane_stiffness: { label: 'membrane modulus (from K_m = 4 E_m t_m / D)', unit: 'kPa', field: '/effects/membrane_modulus_kPa',
+    apply: (s, v) => { s.effects.membrane_compliance = true; s.effects.membrane_modulus_kPa = v; } },
 };
-
-function membraneModulusKPa(s, km) {
-  return km * s.specimen.diameter_mm / (4 * (s.effects?.membrane_thickness_mm || 0.5)) / 1e3;
-}
 
 function labValue(p, scheme) {
   const d = PARAMETERS[p.name];
   if (!d) return { label: p.name.replace(/_/g, ' '), unit: p.unit || '', value: p.value, std: p.std, field: '' };
   if (d.none && p.value === 0) return { label: d.none.label, unit: '', value: d.none.text, std: null, field: d.field };
+  if (p.scheme_value != null) return { label: d.label, unit: d.unit, value: p.scheme_value, std: p.scheme_std ?? null, field: d.field };
   if (d.value) return { label: d.label, unit: d.unit, value: d.value(p.value), std: null, field: d.field };
   if (d.scheme) return { label: d.label, unit: d.unit, value: scheme ? d.scheme(scheme, p.value) : p.value, std: scheme && p.std != null ? d.scheme(scheme, p.std) : null, field: d.field };
   return { label: d.label, unit: d.unit, value: p.value * d.factor, std: p.std != null ? p.std * d.factor : null, field: d.field };
@@ -72,7 +69,7 @@ function labValue(p, scheme) {
 export function applyParameters(scheme, parameters) {
   const s = structuredClone(scheme);
   s.micro ||= {}; s.creep ||= {}; s.effects ||= {};
-  for (const p of parameters || []) PARAMETERS[p.name]?.apply(s, p.value);
+  for (const p of parameters || []) PARAMETERS[p.name]?.apply(s, p.scheme_value ?? p.value);
   return s;
 }
 
@@ -85,7 +82,7 @@ export const LIMITS = { budget_runs: [4, 400], max_particles: [0, 1000000], seed
 export function modelSchemeText(s) {
   const fx = s.effects || {}, micro = s.micro || {}, loading = s.loading || {};
   const stages = loading.stress_levels?.length || 0;
-  const effects = [fx.rolling_resistance && `rolling friction ${num(micro.rolling_friction)}`,
+  const effects = [micro.rolling_friction > 0 && `rolling friction ${num(micro.rolling_friction)}`,
     micro.crushing_strength_MPa > 0 && `crushable grains (${num(micro.crushing_strength_MPa)} MPa)`,
     fx.accelerated_bond_corrosion && `bond corrosion ×${num(fx.bond_corrosion_scale)}`,
     fx.contact_creep_viscosity && `contact creep (slip-hardening ${num(s.creep?.slip_hardening_length_um)} µm)`,

@@ -67,7 +67,6 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     m.rolling_friction = 0.0;
     m.bond_rolling_friction = 0.0;
     m.crushing_strength_pa = 0.0;
-    fx.rolling_resistance = false;
     fx.accelerated_bond_corrosion = false;
     fx.bond_corrosion_scale = 1.0;
     fx.contact_creep_viscosity = false;
@@ -283,8 +282,6 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
         if (v.empty()) throw std::invalid_argument("effect '" + std::string(effect_name(e)) + "' given no parameter");
         switch (e) {
             case Effect::RollingResistance:
-                s.effects.rolling_resistance = true;
-                s.effects.rolling_friction = v[0];
                 s.micro.rolling_friction = v[0];
                 break;
             case Effect::BondDegradation:

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/diagnose/curve_statistics.hpp"
 #include "engine/diagnose/residuals.hpp"
 
 namespace triax::diagnose {
@@ -57,19 +58,15 @@ NoiseFloor noise_floor(const std::vector<ResidualSeries>& layout, const std::vec
     if (runs.size() >= 2) {
         double ss = 0.0;
         std::size_t m = 0, at = 0;
+        std::vector<double> values(runs.size());
         for (const auto& s : layout) {
             double ss_c = 0.0;
             std::size_t m_c = 0;
             for (std::size_t i = 0; i < s.x.size(); ++i, ++at) {
                 // 1.0 exactly is the penalty of a reading a run did not reach.
-                bool reached = true;
-                double mean = 0.0;
-                for (const auto* r : runs) reached = reached && (*r)[at] != 1.0, mean += (*r)[at];
-                if (!reached) continue;
-                mean /= static_cast<double>(runs.size());
-                double var = 0.0;
-                for (const auto* r : runs) var += ((*r)[at] - mean) * ((*r)[at] - mean);
-                var /= static_cast<double>(runs.size() - 1);
+                for (std::size_t k = 0; k < runs.size(); ++k) values[k] = (*runs[k])[at];
+                if (std::find(values.begin(), values.end(), 1.0) != values.end()) continue;
+                const double var = spread_of(values).variance;
                 // A reading is never more uncertain than a full lab range (the penalty of a
                 // reading not reached): a packing whose creep stage runs into the tertiary
                 // regime would otherwise make the floor, and so the tolerance, hundreds of %

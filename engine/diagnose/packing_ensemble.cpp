@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/diagnose/curve_statistics.hpp"
+
 namespace triax::diagnose {
 
 namespace {
@@ -10,16 +12,6 @@ namespace {
 bool same_curve(const LabCurve& a, const LabCurve& b) {
     return a.kind == b.kind && a.stage == b.stage &&
            std::abs(a.confining_pa - b.confining_pa) <= 1e-6 * std::max(1.0, std::abs(a.confining_pa));
-}
-
-// y(x) at xq by linear interpolation; xq inside [x.front(), x.back()] (x ascending).
-double at(const std::vector<double>& x, const std::vector<double>& y, double xq) {
-    if (xq <= x.front()) return y.front();
-    const auto j = static_cast<std::size_t>(std::lower_bound(x.begin(), x.end(), xq) - x.begin());
-    if (j >= x.size()) return y.back();
-    if (x[j] == x[j - 1]) return y[j];
-    const double w = (xq - x[j - 1]) / (x[j] - x[j - 1]);
-    return (1.0 - w) * y[j - 1] + w * y[j];
 }
 
 // The abscissa a curve is read along: time for creep, axial strain for shear.
@@ -34,10 +26,12 @@ std::vector<double> mean_series(const std::vector<const LabCurve*>& members, con
                                 Series series) {
     for (const LabCurve* c : members)
         if (series(*c).size() != abscissa(*c).size() || series(*c).empty()) return {};
-    std::vector<double> out(grid.size(), 0.0);
-    for (const LabCurve* c : members)
-        for (std::size_t i = 0; i < grid.size(); ++i) out[i] += at(abscissa(*c), series(*c), grid[i]);
-    for (double& v : out) v /= static_cast<double>(members.size());
+    std::vector<double> out(grid.size()), values(members.size());
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+        for (std::size_t k = 0; k < members.size(); ++k)
+            values[k] = value_at_clamped(abscissa(*members[k]), series(*members[k]), grid[i]);
+        out[i] = spread_of(values).mean;
+    }
     return out;
 }
 

@@ -203,8 +203,7 @@ ContactLaw Specimen::soil_law(bool friction_on, double friction_ratio) const {
     l.friction = friction_on ? friction_ratio * scheme_.micro.friction : 0.0;
     l.bond_friction = scheme_.micro.bond_friction;
     l.bond_rolling_friction = friction_on ? scheme_.micro.bond_rolling_friction : 0.0;
-    const double rr = scheme_.effects.rolling_resistance ? scheme_.effects.rolling_friction : scheme_.micro.rolling_friction;
-    l.rolling_friction = friction_on ? rr : 0.0;
+    l.rolling_friction = friction_on ? scheme_.micro.rolling_friction : 0.0;
     return l;
 }
 

@@ -85,7 +85,6 @@ void TestScheme::validate() const {
     require(loading.cohesion_pa >= 0.0, "loading.cohesion_pa", "must be >= 0");
     require(loading.friction_angle_deg > 0.0 && loading.friction_angle_deg < 89.0, "loading.friction_angle_deg",
             "must be in (0, 89) deg");
-    require(loading.shear_strain_rate_per_s > 0.0, "loading.shear_strain_rate_per_s", "must be > 0");
     require(loading.max_axial_strain > 0.0 && loading.max_axial_strain <= 0.4, "loading.max_axial_strain",
             "must be in (0, 0.4]");
     require(loading.max_inertial_number >= 1.0e-5 && loading.max_inertial_number <= 1.0e-2,

@@ -75,8 +75,9 @@ struct MicroParameters {
     // Membrane: bonded particles of one size, force but no moment.
     double membrane_particle_radius_m = 0.0;     // 0 = automatic (about r_min of the soil, >= 1 mm)
     double membrane_stiffness_n_m = 2.0e4;       // bond spring between membrane particles
-    // Rolling resistance (off by default: paper uses the linear model).
-    double rolling_friction = 0.0;               // mu_r, 0 = off
+    // Rolling resistance mu_r of soil contacts (engine/contact/linear.hpp); 0 = off, as in
+    // the paper's linear model. The diagnosis's rolling_resistance effect sets this value.
+    double rolling_friction = 0.0;
     // Crushable grain contacts (engine/contact/grain_crushing.hpp, docs/parameters.md):
     // a grain of diameter d crushes locally when a contact force exceeds
     // F_c = sigma0 (d/d0)^(-3/m) (-ln u)^(1/m) d^2 (Weibull, u its survival quantile);
@@ -115,8 +116,9 @@ struct LoadingSpec {
     double cohesion_pa = 25.0e3;                    // Table 1, for Eq. 1
     double friction_angle_deg = 32.0;               // Table 1, for Eq. 1
     std::vector<double> stage_durations_s = {86400.0, 86400.0, 86400.0, 86400.0};  // physical time per stage (1 day)
-    double shear_strain_rate_per_s = 1.0e-4 / 60.0; // lab rate (0.01 %/min), mapped to a quasi-static DEM rate
     double max_axial_strain = 0.15;
+    // The lab's strain rate is not a setting: the density-scaled grains shear at the
+    // quasi-static rate this inertial number gives (triaxial_shear.hpp), whatever the lab's.
     // Shear rate as the largest inertial number of the (density-scaled) grains,
     // I = eps_dot d sqrt(rho / p): quasi-static below about 1e-3 (GDR MiDi 2004).
     double max_inertial_number = 5.0e-4;
@@ -130,8 +132,6 @@ struct LoadingSpec {
 // Effects the diagnosis may switch on (defaults off). Physical effects act on the DEM;
 // test artefacts act on the measurement (seating, membrane compliance).
 struct TestEffects {
-    bool rolling_resistance = false;
-    double rolling_friction = 0.1;
     bool accelerated_bond_corrosion = false;       // bonds corrode faster under load (bond degradation)
     double bond_corrosion_scale = 1.0;             // x creep.bond_corrosion_rate_b1_per_s when on
     bool contact_creep_viscosity = true;           // the creep mechanism itself (off = no creep)

@@ -27,6 +27,7 @@
 #include "server/io/result_csv.hpp"
 #include "server/io/result_json.hpp"
 #include "server/io/scheme_json.hpp"
+#include "server/io/scheme_schema.hpp"
 
 namespace {
 
@@ -36,6 +37,7 @@ const char* kUsage =
     "       triax export <RUN_DIR> --stage generation|consolidation|shear|creep-K\n"
     "                    --format json|project|spheres|lammps|vtk [--out FILE]\n"
     "       triax presets            (prints the paper groups as JSON)\n"
+    "       triax scheme-schema      (prints schema/scheme.schema.json, written from the scheme's field table)\n"
     "       triax diagnose --scheme SCHEME.json --dataset LAB_FILE [--format csv|gds|ags|json]\n"
     "                      [--options OPTIONS.json] [--out REPORT.json]\n"
     "       triax ensemble --scheme SCHEME.json --seeds 1-8 [--out DIR] [--concurrency N]\n"
@@ -194,6 +196,7 @@ int main(int argc, char** argv) {
         if (cmd == "diagnose") return triax::cli::diagnose_command(argc, argv);
         if (cmd == "ensemble") return triax::cli::ensemble_command(argc, argv);
         if (cmd == "presets") { std::cout << triax::io::presets_to_json().dump(2) << "\n"; return 0; }
+        if (cmd == "scheme-schema") { std::cout << triax::io::scheme_schema_text(); return 0; }
         std::cerr << "unknown command '" << cmd << "'\n" << kUsage;
         return 2;
     } catch (const triax::SimulationError& e) {

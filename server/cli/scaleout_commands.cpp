@@ -22,6 +22,7 @@
 #include "engine/diagnose/diagnosis.hpp"
 #include "server/cli/commands.hpp"
 #include "server/io/diagnosis_json.hpp"
+#include "server/io/ensemble_json.hpp"
 #include "server/scaleout/ensemble.hpp"
 #include "server/scaleout/task_runner.hpp"
 #ifdef TRIAX_WITH_MPI
@@ -267,14 +268,14 @@ int ensemble_command(int argc, char** argv) {
     if (ranks.mpi()) results = ranks.pool->run(tasks, handler, on_done);
 #endif
     if (!ranks.mpi()) results = scaleout::run_tasks_in_threads(tasks, handler, concurrency, on_done);
-    std::vector<scaleout::EnsembleMember> members;
+    std::vector<diagnose::EnsembleMember> members;
     for (std::size_t i = 0; i < seeds.size(); ++i) members.push_back(scaleout::member_from_result(seeds[i], results[i]));
-    const auto summary = scaleout::summarise_ensemble(scheme.name, std::move(members));
+    const auto summary = diagnose::summarise_ensemble(scheme.name, std::move(members));
     std::filesystem::create_directories(out);
-    write_file(std::filesystem::path(out) / "ensemble.json", scaleout::ensemble_to_json(summary, true).dump(2) + "\n");
-    write_file(std::filesystem::path(out) / "shear_band.csv", scaleout::shear_band_csv(summary));
-    write_file(std::filesystem::path(out) / "creep_band.csv", scaleout::creep_band_csv(summary));
-    std::cout << scaleout::ensemble_to_json(summary, false).dump(2) << "\n";
+    write_file(std::filesystem::path(out) / "ensemble.json", io::ensemble_to_json(summary, true).dump(2) + "\n");
+    write_file(std::filesystem::path(out) / "shear_band.csv", io::shear_band_csv(summary));
+    write_file(std::filesystem::path(out) / "creep_band.csv", io::creep_band_csv(summary));
+    std::cout << io::ensemble_to_json(summary, false).dump(2) << "\n";
     std::fprintf(stderr, "ensemble: %d of %zu seeds ran, %d rank(s), wall time %.1f s\n", summary.ok, seeds.size(),
                  ranks.size(), seconds_since(t0));
     return summary.ok == static_cast<int>(seeds.size()) ? 0 : 1;

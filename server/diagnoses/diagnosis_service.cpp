@@ -1,6 +1,7 @@
 #include "server/diagnoses/diagnosis_service.hpp"
 
 #include "engine/diagnose/diagnosis.hpp"
+#include "server/diagnoses/membrane_modulus.hpp"
 #include "server/diagnoses/model_schemes.hpp"
 #include "server/http/problem.hpp"
 #include "server/io/diagnosis_json.hpp"
@@ -14,10 +15,6 @@ namespace triax::service {
 using nlohmann::json;
 
 namespace {
-
-bool terminal(const std::string& status) {
-    return status == "done" || status == "failed" || status == "cancelled" || status == "interrupted";
-}
 
 const char* kSelect =
     "SELECT id, dataset_id, status, progress_pct, report_json, created_at, finished_at, error, request_json, rerun_of "
@@ -41,8 +38,9 @@ json diagnosis_json(Statement& st) {
 
 class StreamingDiagnoseObserver : public diagnose::DiagnoseObserver {
 public:
-    StreamingDiagnoseObserver(Database& db, EventLog& events, std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel)
-        : db_(db), events_(events), id_(id), cancel_(std::move(cancel)) {}
+    StreamingDiagnoseObserver(Database& db, EventLog& events, std::int64_t id, std::function<bool()> cancelled,
+                              const protocol::TestScheme& scheme)
+        : db_(db), events_(events), id_(id), cancelled_(std::move(cancelled)), scheme_(scheme) {}
     void on_progress(double percent, std::string_view stage) override {
         const auto now = std::chrono::steady_clock::now();
         if (now - last_ < std::chrono::milliseconds(250) && percent < 100.0) return;
@@ -56,15 +54,18 @@ public:
         events_.notify();
     }
     void on_candidate(const diagnose::CandidateResult& c) override {
-        events_.append(id_, "candidate", io::candidate_to_json(c));
+        auto candidate = io::candidate_to_json(c);
+        add_membrane_modulus(candidate["parameters"], scheme_);
+        events_.append(id_, "candidate", candidate);
     }
-    bool cancelled() const override { return cancel_->load(); }
+    bool cancelled() const override { return cancelled_(); }
 
 private:
     Database& db_;
     EventLog& events_;
     std::int64_t id_;
-    std::shared_ptr<std::atomic<bool>> cancel_;
+    std::function<bool()> cancelled_;
+    const protocol::TestScheme& scheme_;
     std::chrono::steady_clock::time_point last_{};
 };
 
@@ -84,100 +85,50 @@ void add_model_schemes(json& report, const protocol::TestScheme& scheme, const d
 
 DiagnosisService::DiagnosisService(Database& db, EventLog& events, JobQueue& queue,
                                    std::function<diagnose::LabDataset(std::int64_t)> load_dataset)
-    : db_(db), events_(events), queue_(queue), load_dataset_(std::move(load_dataset)) {}
-
-void DiagnosisService::finish(std::int64_t id, const std::string& status, const std::string& detail,
-                              const json* report) {
-    db_.transaction([&](Database& db) {
-        auto up = db.prepare(
-            "UPDATE diagnoses SET status = ?, error = ?, report_json = ?, finished_at = ?, progress_pct = "
-            "CASE WHEN ? = 'done' THEN 100 ELSE progress_pct END WHERE id = ? AND status IN ('queued', 'running')");
-        up.bind_all(status, report ? std::optional<std::string>() : std::optional<std::string>(detail),
-                    report ? std::optional<std::string>(report->dump()) : std::optional<std::string>(), utc_now(),
-                    status, id);
-        up.run();
-        if (db.changes() == 0) return;
-        if (report) events_.append_in(db, id, "done", {{"status", "done"}});
-        else events_.append_in(db, id, "error", {{"status", status}, {"detail", detail}});
-    });
-    events_.notify();
-    cancel_flags_.forget(id);
-}
-
-int DiagnosisService::recover_interrupted() {
-    std::vector<std::int64_t> ids;
-    db_.with([&](Database& db) {
-        auto st = db.prepare("SELECT id FROM diagnoses WHERE status IN ('queued', 'running') ORDER BY id");
-        while (st.step()) ids.push_back(st.int64(0));
-    });
-    for (auto id : ids)
-        finish(id, "interrupted", "the service stopped before the diagnosis ended; re-run it", nullptr);
-    return static_cast<int>(ids.size());
-}
+    : db_(db), events_(events), load_dataset_(std::move(load_dataset)),
+      jobs_(db, queue, JobKind{"diagnosis", "diagnoses", &events, false, "", "re-run it"}, *this) {}
 
 json DiagnosisService::submit(std::int64_t dataset_id, const json& request, std::optional<std::int64_t> rerun_of) {
-    const auto id = db_.transaction([&](Database& db) {
+    const auto id = jobs_.submit([&](Database& db) {
         auto ins = db.prepare(
             "INSERT INTO diagnoses(dataset_id, status, request_json, created_at, rerun_of) VALUES (?, 'queued', ?, ?, ?)");
         ins.bind_all(dataset_id, request.dump(), utc_now(), rerun_of);
         ins.run();
-        const auto new_id = db.last_insert_id();
-        events_.append_in(db, new_id, "status", {{"status", "queued"}});
-        return new_id;
+        return db.last_insert_id();
     });
-    const auto flag = cancel_flags_.arm(id);
-    if (!queue_.try_submit("diagnosis:" + std::to_string(id), [this, id, flag] { execute(id, flag); })) {
-        db_.transaction([&](Database& db) {
-            auto del_ev = db.prepare("DELETE FROM diagnosis_events WHERE diagnosis_id = ?");
-            del_ev.bind_all(id);
-            del_ev.run();
-            auto del = db.prepare("DELETE FROM diagnoses WHERE id = ?");
-            del.bind_all(id);
-            del.run();
-        });
-        cancel_flags_.forget(id);
-        throw queue_full(queue_);
-    }
     return {{"id", id}, {"status", "queued"}};
 }
 
-void DiagnosisService::cancel(std::int64_t id) {
-    const std::string s = status(id)["status"];
-    if (terminal(s)) throw conflict("diagnosis " + std::to_string(id) + " is already " + s);
-    cancel_flags_.raise(id);
-    if (queue_.withdraw("diagnosis:" + std::to_string(id)))
-        finish(id, "cancelled", "cancelled by request before it started", nullptr);
-}
-
 json DiagnosisService::rerun(std::int64_t id) {
-    std::string state;
+    jobs_.require_ended(id);
     std::int64_t dataset_id = 0;
     json request;
     db_.with([&](Database& db) {
-        auto st = db.prepare("SELECT status, dataset_id, request_json FROM diagnoses WHERE id = ?");
+        auto st = db.prepare("SELECT dataset_id, request_json FROM diagnoses WHERE id = ?");
         st.bind_all(id);
-        if (!st.step()) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
-        state = st.text(0);
-        dataset_id = st.int64(1);
-        request = json::parse(st.text(2));
+        st.step();
+        dataset_id = st.int64(0);
+        request = json::parse(st.text(1));
     });
-    if (!terminal(state))
-        throw conflict("diagnosis " + std::to_string(id) + " is " + state + "; only a finished diagnosis can be re-run");
     load_dataset_(dataset_id);  // 404 when the dataset was deleted since
     return submit(dataset_id, request, id);
 }
 
 json DiagnosisService::status(std::int64_t id) {
-    return db_.with([&](Database& db) {
+    auto d = db_.with([&](Database& db) {
         auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
         st.bind_all(id);
         if (!st.step()) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
         // The scheme diagnosed (the user's; the report's model_schemes are the calibrated
         // model's).
-        auto d = diagnosis_json(st);
-        d["scheme"] = json::parse(st.text(8)).value("scheme", json(nullptr));
-        return d;
+        auto out = diagnosis_json(st);
+        out["scheme"] = io::without_retired_fields(json::parse(st.text(8)).value("scheme", json(nullptr)));
+        return out;
     });
+    // K_m as the scheme's membrane modulus, with the scheme diagnosed (accepted, so it parses).
+    if (d["report"].is_object() && d["scheme"].is_object())
+        add_membrane_modulus_to_report(d["report"], io::scheme_from_json(d["scheme"]));
+    return d;
 }
 
 json DiagnosisService::list(const PageRequest& page) {
@@ -202,44 +153,28 @@ bool DiagnosisService::exists(std::int64_t id) {
     });
 }
 
-void DiagnosisService::begin_shutdown() {
-    shutting_down_ = true;
-    cancel_flags_.raise_all();
-}
-
-void DiagnosisService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel) {
+JobWork::StoreResult DiagnosisService::run(std::int64_t id, const std::function<bool()>& cancelled) {
     json request;
     std::int64_t dataset_id = 0;
-    const bool started = db_.transaction([&](Database& db) {
-        auto up = db.prepare("UPDATE diagnoses SET status = 'running' WHERE id = ? AND status = 'queued'");
-        up.bind_all(id);
-        up.run();
-        if (db.changes() == 0) return false;
+    db_.with([&](Database& db) {
         auto q = db.prepare("SELECT request_json, dataset_id FROM diagnoses WHERE id = ?");
         q.bind_all(id);
         q.step();
         request = json::parse(q.text(0));
         dataset_id = q.int64(1);
-        events_.append_in(db, id, "status", {{"status", "running"}});
-        return true;
     });
-    events_.notify();
-    if (!started) return;
-    try {
-        const auto lab = load_dataset_(dataset_id);
-        const auto scheme = io::scheme_from_json(request["scheme"]);
-        const auto options = io::diagnose_options_from_json(request["options"]);
-        StreamingDiagnoseObserver observer(db_, events_, id, cancel);
-        json doc = remote_ ? remote_(id, request, lab, observer)
-                           : io::diagnosis_report_to_json(diagnose::run_diagnosis(lab, scheme, options, observer));
-        add_model_schemes(doc, scheme, lab, options);
-        finish(id, "done", "", &doc);
-    } catch (const diagnose::DiagnosisCancelled&) {
-        finish(id, shutting_down_ ? "interrupted" : "cancelled",
-               shutting_down_ ? "the service stopped during the diagnosis; re-run it" : "cancelled by request", nullptr);
-    } catch (const std::exception& e) {
-        finish(id, cancel->load() && shutting_down_ ? "interrupted" : "failed", e.what(), nullptr);
-    }
+    const auto lab = load_dataset_(dataset_id);
+    const auto scheme = io::scheme_from_json(request["scheme"]);
+    const auto options = io::diagnose_options_from_json(request["options"]);
+    StreamingDiagnoseObserver observer(db_, events_, id, cancelled, scheme);
+    json doc = remote_ ? remote_(id, request, lab, observer)
+                       : io::diagnosis_report_to_json(diagnose::run_diagnosis(lab, scheme, options, observer));
+    add_model_schemes(doc, scheme, lab, options);
+    return [id, report = doc.dump()](Database& db) {
+        auto up = db.prepare("UPDATE diagnoses SET report_json = ?, progress_pct = 100 WHERE id = ?");
+        up.bind_all(report, id);
+        up.run();
+    };
 }
 
 }  // namespace triax::service

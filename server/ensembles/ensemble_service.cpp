@@ -1,9 +1,11 @@
 #include "server/ensembles/ensemble_service.hpp"
 
 #include "server/http/problem.hpp"
+#include "server/io/ensemble_json.hpp"
 #include "server/io/scheme_json.hpp"
 #include "server/scaleout/ensemble.hpp"
 #include "server/scaleout/task_runner.hpp"
+#include "server/store/scheme_store.hpp"
 
 namespace triax::service {
 
@@ -33,24 +35,11 @@ json ensemble_json(Statement& st) {
             {"error", opt_text(11)}};
 }
 
-bool terminal(const std::string& status) {
-    return status == "done" || status == "failed" || status == "cancelled" || status == "interrupted";
-}
-
 }  // namespace
 
 EnsembleService::EnsembleService(Database& db, JobQueue& queue, int default_concurrency, int max_concurrency)
-    : db_(db), queue_(queue), default_concurrency_(default_concurrency), max_concurrency_(max_concurrency) {}
-
-int EnsembleService::recover_interrupted() {
-    std::vector<std::int64_t> ids;
-    db_.with([&](Database& db) {
-        auto st = db.prepare("SELECT id FROM ensembles WHERE status IN ('queued', 'running') ORDER BY id");
-        while (st.step()) ids.push_back(st.int64(0));
-    });
-    for (auto id : ids) finish(id, "interrupted", "the service stopped before the ensemble ended; submit it again");
-    return static_cast<int>(ids.size());
-}
+    : db_(db), default_concurrency_(default_concurrency), max_concurrency_(max_concurrency),
+      jobs_(db, queue, JobKind{"ensemble", "ensembles", nullptr, true, "", "submit it again"}, *this) {}
 
 json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_text, std::size_t members,
                              std::optional<int> concurrency) {
@@ -60,36 +49,16 @@ json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_te
                             "]")
             .at_field("/concurrency")
             .with_limit("1 <= concurrency <= " + std::to_string(max_concurrency_));
-    const auto id = db_.transaction([&](Database& db) {
-        auto name = db.prepare("SELECT name FROM schemes WHERE id = ?");
-        name.bind_all(scheme_id);
-        if (!name.step()) throw not_found("scheme " + std::to_string(scheme_id) + " does not exist").at_field("/scheme_id");
+    const auto id = jobs_.submit([&](Database& db) {
+        const auto name = SchemeStore::name_in(db, scheme_id, "/scheme_id");
         auto ins = db.prepare(
             "INSERT INTO ensembles(scheme_id, name, seeds, status, members_total, concurrency, created_at) "
             "VALUES (?, ?, ?, 'queued', ?, ?, ?)");
-        ins.bind_all(scheme_id, name.text(0), seeds_text, static_cast<std::int64_t>(members), n, utc_now());
+        ins.bind_all(scheme_id, name, seeds_text, static_cast<std::int64_t>(members), n, utc_now());
         ins.run();
         return db.last_insert_id();
     });
-    const auto flag = cancel_flags_.arm(id);
-    if (!queue_.try_submit("ensemble:" + std::to_string(id), [this, id, flag] { execute(id, flag); })) {
-        // Nothing of a refused ensemble is kept: the client was told 429 and will retry.
-        db_.transaction([&](Database& db) {
-            auto del = db.prepare("DELETE FROM ensembles WHERE id = ?");
-            del.bind_all(id);
-            del.run();
-        });
-        cancel_flags_.forget(id);
-        throw queue_full(queue_);
-    }
     return {{"id", id}, {"status", "queued"}};
-}
-
-void EnsembleService::cancel(std::int64_t id) {
-    const std::string s = status(id)["status"];
-    if (terminal(s)) throw conflict("ensemble " + std::to_string(id) + " is already " + s);
-    cancel_flags_.raise(id);
-    if (queue_.withdraw("ensemble:" + std::to_string(id))) finish(id, "cancelled", "cancelled by request before it started");
 }
 
 json EnsembleService::status(std::int64_t id) {
@@ -123,30 +92,11 @@ std::string EnsembleService::band_csv(std::int64_t id, const std::string& which)
     });
 }
 
-void EnsembleService::begin_shutdown() {
-    shutting_down_ = true;
-    cancel_flags_.raise_all();
-}
-
-void EnsembleService::finish(std::int64_t id, const std::string& status, const std::string& detail) {
-    db_.transaction([&](Database& db) {
-        auto up = db.prepare(
-            "UPDATE ensembles SET status = ?, error = ?, finished_at = ? WHERE id = ? AND status IN ('queued', 'running')");
-        up.bind_all(status, detail, utc_now(), id);
-        up.run();
-    });
-    cancel_flags_.forget(id);
-}
-
-void EnsembleService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel) {
+JobWork::StoreResult EnsembleService::run(std::int64_t id, const std::function<bool()>& cancelled) {
     json scheme_json;
     std::string seeds_text, name;
     int concurrency = 1;
-    const bool started = db_.transaction([&](Database& db) {
-        auto up = db.prepare("UPDATE ensembles SET status = 'running', started_at = ? WHERE id = ? AND status = 'queued'");
-        up.bind_all(utc_now(), id);
-        up.run();
-        if (db.changes() == 0) return false;
+    db_.with([&](Database& db) {
         auto q = db.prepare(
             "SELECT s.scheme_json, e.seeds, e.concurrency, e.name FROM ensembles e JOIN schemes s ON s.id = e.scheme_id "
             "WHERE e.id = ?");
@@ -156,58 +106,39 @@ void EnsembleService::execute(std::int64_t id, std::shared_ptr<std::atomic<bool>
         seeds_text = q.text(1);
         concurrency = static_cast<int>(q.int64(2));
         name = q.text(3);
-        return true;
     });
-    if (!started) return;
-    const auto stopped = [&] {
-        finish(id, shutting_down_ ? "interrupted" : "cancelled",
-               shutting_down_ ? "the service stopped during the ensemble; submit it again" : "cancelled by request");
-    };
-    if (cancel->load()) return stopped();
-    try {
-        auto scheme = io::scheme_from_json(scheme_json);
-        // Members run side by side, one engine thread each: `concurrency` threads in all.
-        scheme.threads = 1;
-        const auto seeds = scaleout::parse_seed_list(seeds_text);
-        std::vector<std::string> tasks;
-        for (auto s : seeds) tasks.push_back(scaleout::member_task(s));
-        const auto handler = scaleout::member_handler(scheme, [cancel] { return cancel->load(); });
-        // A member that ran to its end (or failed) counts; one stopped by a cancel does not.
-        const auto on_done = [&](std::size_t) {
-            if (cancel->load()) return;
-            db_.transaction([&](Database& db) {
-                auto up = db.prepare("UPDATE ensembles SET members_done = members_done + 1 WHERE id = ? AND status = 'running'");
-                up.bind_all(id);
-                up.run();
-            });
-        };
-        const auto results = scaleout::run_tasks_in_threads(tasks, handler, concurrency, on_done);
-        if (cancel->load()) return stopped();
-        std::vector<scaleout::EnsembleMember> members;
-        for (std::size_t i = 0; i < seeds.size(); ++i) members.push_back(scaleout::member_from_result(seeds[i], results[i]));
-        const auto summary = scaleout::summarise_ensemble(name, std::move(members));
-        if (summary.ok == 0) {
-            const auto& first = summary.members.front();
-            return finish(id, "failed", "no member ran to its end; seed " + std::to_string(first.seed) + ": " + first.error);
-        }
-        const std::string doc = scaleout::ensemble_to_json(summary, true).dump(), shear = scaleout::shear_band_csv(summary),
-                          creep = scaleout::creep_band_csv(summary);
+    auto scheme = io::scheme_from_json(scheme_json);
+    // Members run side by side, one engine thread each: `concurrency` threads in all.
+    scheme.threads = 1;
+    const auto seeds = scaleout::parse_seed_list(seeds_text);
+    std::vector<std::string> tasks;
+    for (auto s : seeds) tasks.push_back(scaleout::member_task(s));
+    const auto handler = scaleout::member_handler(scheme, cancelled);
+    // A member that ran to its end (or failed) counts; one stopped by a cancel does not.
+    const auto on_done = [&](std::size_t) {
+        if (cancelled()) return;
         db_.transaction([&](Database& db) {
-            auto up = db.prepare(
-                "UPDATE ensembles SET status = 'done', finished_at = ? WHERE id = ? AND status = 'running'");
-            up.bind_all(utc_now(), id);
+            auto up = db.prepare("UPDATE ensembles SET members_done = members_done + 1 WHERE id = ? AND status = 'running'");
+            up.bind_all(id);
             up.run();
-            if (db.changes() == 0) return;  // finished by someone else (a stop)
-            auto ins = db.prepare(
-                "INSERT INTO ensemble_results(ensemble_id, summary_json, shear_band_csv, creep_band_csv) VALUES (?, ?, ?, ?)");
-            ins.bind_all(id, doc, shear, creep);
-            ins.run();
         });
-        cancel_flags_.forget(id);
-    } catch (const std::exception& e) {
-        if (cancel->load()) return stopped();
-        finish(id, "failed", e.what());
+    };
+    const auto results = scaleout::run_tasks_in_threads(tasks, handler, concurrency, on_done);
+    if (cancelled()) throw JobCancelled();
+    std::vector<diagnose::EnsembleMember> members;
+    for (std::size_t i = 0; i < seeds.size(); ++i) members.push_back(scaleout::member_from_result(seeds[i], results[i]));
+    const auto summary = diagnose::summarise_ensemble(name, std::move(members));
+    if (summary.ok == 0) {
+        const auto& first = summary.members.front();
+        throw std::runtime_error("no member ran to its end; seed " + std::to_string(first.seed) + ": " + first.error);
     }
+    return [id, doc = io::ensemble_to_json(summary, true).dump(), shear = io::shear_band_csv(summary),
+            creep = io::creep_band_csv(summary)](Database& db) {
+        auto ins = db.prepare(
+            "INSERT INTO ensemble_results(ensemble_id, summary_json, shear_band_csv, creep_band_csv) VALUES (?, ?, ?, ?)");
+        ins.bind_all(id, doc, shear, creep);
+        ins.run();
+    };
 }
 
 }  // namespace triax::service

@@ -9,7 +9,8 @@ EventLog::EventLog(Database& db, std::string table, std::string owner)
       insert_sql_("INSERT INTO " + table + "(" + owner + ", seq, type, data) VALUES (?, ?, ?, ?)"),
       select_sql_("SELECT seq, type, data FROM " + table + " WHERE " + owner + " = ? AND seq > ? ORDER BY seq LIMIT ?"),
       max_sql_("SELECT COALESCE(MAX(seq), 0) FROM " + table + " WHERE " + owner + " = ?"),
-      last_type_sql_("SELECT type FROM " + table + " WHERE " + owner + " = ? ORDER BY seq DESC LIMIT 1") {}
+      last_type_sql_("SELECT type FROM " + table + " WHERE " + owner + " = ? ORDER BY seq DESC LIMIT 1"),
+      delete_sql_("DELETE FROM " + table + " WHERE " + owner + " = ?") {}
 
 bool EventLog::ended(std::int64_t owner) const {
     return db_.with([&](Database& db) {
@@ -45,6 +46,14 @@ std::int64_t EventLog::append(std::int64_t owner, const std::string& type, const
 }
 
 void EventLog::notify() { cv_.notify_all(); }
+
+void EventLog::forget_in(Database& tx, std::int64_t owner) {
+    std::lock_guard lock(mutex_);
+    auto st = tx.prepare(delete_sql_);
+    st.bind_all(owner);
+    st.run();
+    last_seq_.erase(owner);  // the id may be given again
+}
 
 std::vector<StoredEvent> EventLog::since(std::int64_t owner, std::int64_t after_seq, int limit) const {
     return db_.with([&](Database& db) {

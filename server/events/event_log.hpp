@@ -38,6 +38,9 @@ public:
     // Same, inside a transaction the caller already holds (Database::transaction).
     std::int64_t append_in(Database& tx, std::int64_t owner, const std::string& type, const nlohmann::json& data);
     void notify();
+    // Deletes the owner's events, inside the caller's transaction (a job whose submission
+    // was refused).
+    void forget_in(Database& tx, std::int64_t owner);
 
     // True when the owner's last event is terminal: nothing more will come.
     bool ended(std::int64_t owner) const;
@@ -50,7 +53,7 @@ public:
 private:
     std::int64_t last_seq_locked(Database& db, std::int64_t owner);
     Database& db_;
-    std::string insert_sql_, select_sql_, max_sql_, last_type_sql_;
+    std::string insert_sql_, select_sql_, max_sql_, last_type_sql_, delete_sql_;
     mutable std::mutex mutex_;
     std::condition_variable cv_;
     std::map<std::int64_t, std::int64_t> last_seq_;  // cache of MAX(seq) per owner

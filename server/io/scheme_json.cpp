@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/core/types.hpp"
+#include "server/io/scheme_fields.hpp"
 
 namespace triax::io {
 
@@ -19,96 +20,6 @@ namespace {
 // curve a few dozen entries in any lab practice.
 constexpr std::size_t kMaxSchemeNameBytes = 200;
 constexpr std::size_t kMaxSchemeArray = 100;
-
-// One numeric field: where it lives in JSON, its SI name in TestScheme (as used in
-// TestScheme::validate messages) and the factor lab -> SI.
-struct NumberField {
-    const char* section;
-    const char* key;
-    const char* si_name;
-    std::function<double&(TestScheme&)> ref;
-    double to_si;
-};
-
-struct BoolField {
-    const char* section;
-    const char* key;
-    std::function<bool&(TestScheme&)> ref;
-};
-
-const std::vector<NumberField>& number_fields() {
-    static const std::vector<NumberField> f = {
-        {"specimen", "diameter_mm", "specimen.diameter_m", [](TestScheme& s) -> double& { return s.specimen.diameter_m; }, 1e-3},
-        {"specimen", "height_mm", "specimen.height_m", [](TestScheme& s) -> double& { return s.specimen.height_m; }, 1e-3},
-        {"specimen", "target_porosity", "specimen.target_porosity", [](TestScheme& s) -> double& { return s.specimen.target_porosity; }, 1.0},
-        {"specimen", "compaction_friction_ratio", "specimen.compaction_friction_ratio", [](TestScheme& s) -> double& { return s.specimen.compaction_friction_ratio; }, 1.0},
-        {"specimen", "dry_density_g_cm3", "specimen.dry_density_kg_m3", [](TestScheme& s) -> double& { return s.specimen.dry_density_kg_m3; }, 1000.0},
-        {"specimen", "moisture_content_pct", "specimen.moisture_content", [](TestScheme& s) -> double& { return s.specimen.moisture_content; }, 0.01},
-        {"gradation", "r_min_mm", "gradation.r_min_m", [](TestScheme& s) -> double& { return s.gradation.r_min_m; }, 1e-3},
-        {"gradation", "radius_ratio", "gradation.radius_ratio", [](TestScheme& s) -> double& { return s.gradation.radius_ratio; }, 1.0},
-        {"gradation", "fines_cutoff_mm", "gradation.fines_cutoff_m", [](TestScheme& s) -> double& { return s.gradation.fines_cutoff_m; }, 1e-3},
-        {"micro", "friction", "micro.friction", [](TestScheme& s) -> double& { return s.micro.friction; }, 1.0},
-        {"micro", "wall_friction", "micro.wall_friction", [](TestScheme& s) -> double& { return s.micro.wall_friction; }, 1.0},
-        {"micro", "local_damping", "micro.local_damping", [](TestScheme& s) -> double& { return s.micro.local_damping; }, 1.0},
-        {"micro", "normal_modulus_MPa", "micro.normal_modulus_pa", [](TestScheme& s) -> double& { return s.micro.normal_modulus_pa; }, 1e6},
-        {"micro", "shear_modulus_MPa", "micro.shear_modulus_pa", [](TestScheme& s) -> double& { return s.micro.shear_modulus_pa; }, 1e6},
-        {"micro", "wall_normal_stiffness_N_m", "micro.wall_normal_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.wall_normal_stiffness_n_m; }, 1.0},
-        {"micro", "wall_shear_stiffness_N_m", "micro.wall_shear_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.wall_shear_stiffness_n_m; }, 1.0},
-        {"micro", "bond_normal_strength_kPa", "micro.bond_normal_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_normal_strength_pa; }, 1e3},
-        {"micro", "bond_shear_strength_kPa", "micro.bond_shear_strength_pa", [](TestScheme& s) -> double& { return s.micro.bond_shear_strength_pa; }, 1e3},
-        {"micro", "bond_friction", "micro.bond_friction", [](TestScheme& s) -> double& { return s.micro.bond_friction; }, 1.0},
-        {"micro", "bond_rolling_friction", "micro.bond_rolling_friction", [](TestScheme& s) -> double& { return s.micro.bond_rolling_friction; }, 1.0},
-        {"micro", "membrane_particle_radius_mm", "micro.membrane_particle_radius_m", [](TestScheme& s) -> double& { return s.micro.membrane_particle_radius_m; }, 1e-3},
-        {"micro", "membrane_stiffness_N_m", "micro.membrane_stiffness_n_m", [](TestScheme& s) -> double& { return s.micro.membrane_stiffness_n_m; }, 1.0},
-        {"micro", "rolling_friction", "micro.rolling_friction", [](TestScheme& s) -> double& { return s.micro.rolling_friction; }, 1.0},
-        {"micro", "crushing_strength_MPa", "micro.crushing_strength_pa", [](TestScheme& s) -> double& { return s.micro.crushing_strength_pa; }, 1e6},
-        {"micro", "crushing_reference_diameter_mm", "micro.crushing_reference_diameter_m", [](TestScheme& s) -> double& { return s.micro.crushing_reference_diameter_m; }, 1e-3},
-        {"micro", "crushing_weibull_modulus", "micro.crushing_weibull_modulus", [](TestScheme& s) -> double& { return s.micro.crushing_weibull_modulus; }, 1.0},
-        {"micro", "crushing_hardening_ratio", "micro.crushing_hardening_ratio", [](TestScheme& s) -> double& { return s.micro.crushing_hardening_ratio; }, 1.0},
-        {"creep", "slip_rate_a_m_s", "creep.slip_rate_a_m_s", [](TestScheme& s) -> double& { return s.creep.slip_rate_a_m_s; }, 1.0},
-        {"creep", "slip_beta", "creep.slip_beta", [](TestScheme& s) -> double& { return s.creep.slip_beta; }, 1.0},
-        {"creep", "slip_hardening_length_um", "creep.slip_hardening_length_m", [](TestScheme& s) -> double& { return s.creep.slip_hardening_length_m; }, 1e-6},
-        {"creep", "capacity_offset", "creep.capacity_offset", [](TestScheme& s) -> double& { return s.creep.capacity_offset; }, 1.0},
-        {"creep", "aging_margin", "creep.aging_margin", [](TestScheme& s) -> double& { return s.creep.aging_margin; }, 1.0},
-        {"creep", "wear_length_um", "creep.wear_length_m", [](TestScheme& s) -> double& { return s.creep.wear_length_m; }, 1e-6},
-        {"creep", "wear_max", "creep.wear_max", [](TestScheme& s) -> double& { return s.creep.wear_max; }, 1.0},
-        {"creep", "bond_corrosion_rate_b1_per_s", "creep.bond_corrosion_rate_b1_per_s", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_rate_b1_per_s; }, 1.0},
-        {"creep", "bond_corrosion_b2", "creep.bond_corrosion_b2", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_b2; }, 1.0},
-        {"creep", "bond_corrosion_threshold", "creep.bond_corrosion_threshold", [](TestScheme& s) -> double& { return s.creep.bond_corrosion_threshold; }, 1.0},
-        {"creep", "first_increment_s", "creep.first_increment_s", [](TestScheme& s) -> double& { return s.creep.first_increment_s; }, 1.0},
-        {"creep", "increment_growth", "creep.increment_growth", [](TestScheme& s) -> double& { return s.creep.increment_growth; }, 1.0},
-        {"creep", "max_increment_s", "creep.max_increment_s", [](TestScheme& s) -> double& { return s.creep.max_increment_s; }, 1.0},
-        {"creep", "max_relaxation_per_increment", "creep.max_relaxation_per_increment", [](TestScheme& s) -> double& { return s.creep.max_relaxation_per_increment; }, 1.0},
-        {"loading", "confining_pressure_kPa", "loading.confining_pressure_pa", [](TestScheme& s) -> double& { return s.loading.confining_pressure_pa; }, 1e3},
-        {"loading", "cohesion_kPa", "loading.cohesion_pa", [](TestScheme& s) -> double& { return s.loading.cohesion_pa; }, 1e3},
-        {"loading", "friction_angle_deg", "loading.friction_angle_deg", [](TestScheme& s) -> double& { return s.loading.friction_angle_deg; }, 1.0},
-        {"loading", "shear_strain_rate_pct_per_min", "loading.shear_strain_rate_per_s", [](TestScheme& s) -> double& { return s.loading.shear_strain_rate_per_s; }, 0.01 / 60.0},
-        {"loading", "max_axial_strain_pct", "loading.max_axial_strain", [](TestScheme& s) -> double& { return s.loading.max_axial_strain; }, 0.01},
-        {"loading", "consolidation_tolerance", "loading.consolidation_tolerance", [](TestScheme& s) -> double& { return s.loading.consolidation_tolerance; }, 1.0},
-        {"loading", "max_inertial_number", "loading.max_inertial_number", [](TestScheme& s) -> double& { return s.loading.max_inertial_number; }, 1.0},
-        {"effects", "rolling_friction", "effects.rolling_friction", [](TestScheme& s) -> double& { return s.effects.rolling_friction; }, 1.0},
-        {"effects", "bond_corrosion_scale", "effects.bond_corrosion_scale", [](TestScheme& s) -> double& { return s.effects.bond_corrosion_scale; }, 1.0},
-        {"effects", "viscosity_scale", "effects.viscosity_scale", [](TestScheme& s) -> double& { return s.effects.viscosity_scale; }, 1.0},
-        {"effects", "seating_displacement_mm", "effects.seating_displacement_m", [](TestScheme& s) -> double& { return s.effects.seating_displacement_m; }, 1e-3},
-        {"effects", "membrane_modulus_kPa", "effects.membrane_modulus_pa", [](TestScheme& s) -> double& { return s.effects.membrane_modulus_pa; }, 1e3},
-        {"effects", "membrane_thickness_mm", "effects.membrane_thickness_m", [](TestScheme& s) -> double& { return s.effects.membrane_thickness_m; }, 1e-3},
-    };
-    return f;
-}
-
-const std::vector<BoolField>& bool_fields() {
-    static const std::vector<BoolField> f = {
-        {"effects", "rolling_resistance", [](TestScheme& s) -> bool& { return s.effects.rolling_resistance; }},
-        {"effects", "accelerated_bond_corrosion", [](TestScheme& s) -> bool& { return s.effects.accelerated_bond_corrosion; }},
-        {"effects", "contact_creep_viscosity", [](TestScheme& s) -> bool& { return s.effects.contact_creep_viscosity; }},
-        {"effects", "moisture_bonding", [](TestScheme& s) -> bool& { return s.effects.moisture_bonding; }},
-        {"effects", "seating_error", [](TestScheme& s) -> bool& { return s.effects.seating_error; }},
-        {"effects", "membrane_compliance", [](TestScheme& s) -> bool& { return s.effects.membrane_compliance; }},
-        {"micro", "crushing_breaks_bond", [](TestScheme& s) -> bool& { return s.micro.crushing_breaks_bond; }},
-        {"loading", "stop_at_softening", [](TestScheme& s) -> bool& { return s.loading.stop_at_softening; }},
-    };
-    return f;
-}
 
 std::string ptr(const std::string& section, const std::string& key) { return "/" + section + "/" + key; }
 
@@ -167,6 +78,19 @@ std::string pointer_for(const std::string& si_field) {
     return p;
 }
 
+// A stored document may carry the retired pair effects.rolling_resistance and
+// effects.rolling_friction (0.1 when absent): with the switch on, its value is the
+// contacts' mu_r (micro.rolling_friction); off, micro.rolling_friction stands.
+void read_retired_rolling(const json& j, TestScheme& s) {
+    if (!j.contains("effects") || !j["effects"].contains("rolling_resistance")) return;
+    const auto& fx = j["effects"];
+    if (!fx["rolling_resistance"].is_boolean())
+        throw SchemeError("/effects/rolling_resistance", "must be true or false");
+    if (!fx["rolling_resistance"].get<bool>()) return;
+    s.micro.rolling_friction =
+        fx.contains("rolling_friction") ? number_at(fx["rolling_friction"], "/effects/rolling_friction") : 0.1;
+}
+
 // The engine's InputError reads "field: why" (TestScheme::validate, paper_group); one
 // without a field stands whole for both.
 struct EngineMessage {
@@ -183,14 +107,22 @@ EngineMessage engine_message(const InputError& e) {
 
 TestScheme scheme_from_json(const json& j) {
     if (!j.is_object()) throw SchemeError("", "a scheme must be a JSON object");
-    static const std::vector<std::string> sections = {"specimen", "gradation", "micro", "creep", "loading", "effects"};
-    static const std::vector<std::string> scalars = {"name", "preset", "seed", "threads", "max_particles"};
+    const auto is_section = [](const std::string& k) {
+        return std::find(std::begin(kSchemeSections), std::end(kSchemeSections), k) != std::end(kSchemeSections);
+    };
+    // A field of `section` ("" = the top level) that some table names.
+    const auto known = [](const std::string& section, const std::string& k) {
+        const auto is = [&](const auto& f) { return section == f.section && k == f.key; };
+        return std::any_of(number_fields().begin(), number_fields().end(), is) ||
+               std::any_of(bool_fields().begin(), bool_fields().end(), is) ||
+               std::any_of(shaped_fields().begin(), shaped_fields().end(), is) ||
+               std::any_of(retired_fields().begin(), retired_fields().end(), is);
+    };
     for (auto it = j.begin(); it != j.end(); ++it) {
         const std::string& k = it.key();
-        const bool scalar = std::find(scalars.begin(), scalars.end(), k) != scalars.end();
-        if (!scalar && std::find(sections.begin(), sections.end(), k) == sections.end())
-            throw SchemeError("/" + k, "unknown field");
-        if (!scalar && !it.value().is_object()) throw SchemeError("/" + k, "must be an object");
+        if (known("", k)) continue;
+        if (!is_section(k)) throw SchemeError("/" + k, "unknown field");
+        if (!it.value().is_object()) throw SchemeError("/" + k, "must be an object");
     }
     // A scheme may start from a paper group (Table 2 with the presets' micro-parameters) and
     // change only what differs, e.g. {"preset": "C", "seed": 3}; without it, the bare
@@ -219,18 +151,10 @@ TestScheme scheme_from_json(const json& j) {
     if (j.contains("max_particles"))
         s.max_particles = static_cast<int>(integer_at(j["max_particles"], "/max_particles", 0, 100'000'000));
     // Unknown keys inside sections.
-    for (const auto& sec : sections) {
+    for (const char* sec : kSchemeSections) {
         if (!j.contains(sec)) continue;
-        for (auto it = j[sec].begin(); it != j[sec].end(); ++it) {
-            const std::string& k = it.key();
-            bool known = false;
-            for (const auto& f : number_fields()) known = known || (sec == f.section && k == f.key);
-            for (const auto& f : bool_fields()) known = known || (sec == f.section && k == f.key);
-            known = known || (sec == "specimen" && k == "lateral_boundary") ||
-                    (sec == "gradation" && (k == "kind" || k == "sieve_curve")) ||
-                    (sec == "loading" && (k == "stress_levels" || k == "stage_durations_min" || k == "stress_level_definition"));
-            if (!known) throw SchemeError(ptr(sec, k), "unknown field");
-        }
+        for (auto it = j[sec].begin(); it != j[sec].end(); ++it)
+            if (!known(sec, it.key())) throw SchemeError(ptr(sec, it.key()), "unknown field");
     }
     for (const auto& f : number_fields()) {
         if (!j.contains(f.section) || !j[f.section].contains(f.key)) continue;
@@ -242,6 +166,7 @@ TestScheme scheme_from_json(const json& j) {
         if (!v.is_boolean()) throw SchemeError(ptr(f.section, f.key), "must be true or false");
         f.ref(s) = v.get<bool>();
     }
+    read_retired_rolling(j, s);
     if (j.contains("specimen") && j["specimen"].contains("lateral_boundary")) {
         const auto& b = j["specimen"]["lateral_boundary"];
         if (b == "bonded_membrane") s.specimen.lateral_boundary = protocol::SpecimenSpec::LateralBoundary::BondedMembrane;
@@ -295,6 +220,21 @@ TestScheme scheme_from_json(const json& j) {
         throw SchemeError(pointer_for(m.field), m.why);
     }
     return s;
+}
+
+json without_retired_fields(json j) {
+    if (!j.is_object()) return j;
+    if (j.contains("effects") && j["effects"].is_object()) {
+        const auto& fx = j["effects"];
+        if (fx.contains("rolling_resistance") && fx["rolling_resistance"] == true) {
+            const json mu = fx.contains("rolling_friction") ? fx["rolling_friction"] : json(0.1);
+            if (!j.contains("micro") || !j["micro"].is_object()) j["micro"] = json::object();
+            j["micro"]["rolling_friction"] = mu;
+        }
+    }
+    for (const auto& f : retired_fields())
+        if (j.contains(f.section) && j[f.section].is_object()) j[f.section].erase(f.key);
+    return j;
 }
 
 json scheme_to_json(const TestScheme& s0) {

@@ -3,7 +3,9 @@
 // Every field carries its unit in its name: specimen.diameter_mm, loading.confining_pressure_kPa,
 // loading.stage_durations_min, ... Every field is optional; a missing one keeps the
 // paper's default (Tables 1-3), so {} is group B. Unknown fields are rejected (a typo
-// would otherwise silently run the default).
+// would otherwise silently run the default). The fields are the table of scheme_fields.hpp;
+// its retired fields are still read from stored documents but are not in the schema, so
+// the service refuses them in new ones.
 #include <stdexcept>
 #include <string>
 
@@ -23,6 +25,11 @@ struct SchemeError : std::invalid_argument {
 
 // Parses and validates (TestScheme::validate). Throws SchemeError naming the pointer.
 protocol::TestScheme scheme_from_json(const nlohmann::json& j);
+
+// A stored document as it is served: its retired fields (scheme_fields.hpp) read into the
+// current ones (the rolling switch on: its value as micro.rolling_friction) and removed, the
+// rest untouched, so that a client can send it back as a new document.
+nlohmann::json without_retired_fields(nlohmann::json j);
 
 // The normalised scheme: every field present, lab units.
 nlohmann::json scheme_to_json(const protocol::TestScheme& s);

@@ -155,15 +155,6 @@ json compare(Service& s, std::int64_t run_id, std::int64_t dataset_id, double wa
             {"curves", curves}, {"skipped", skipped}, {"warnings", warnings}};
 }
 
-json load_comparison(Statement& st) {
-    json out = json::parse(st.text(3));
-    out["id"] = st.int64(0);
-    out["run_id"] = st.int64(1);
-    out["dataset_id"] = st.int64(2);
-    out["created_at"] = st.text(4);
-    return out;
-}
-
 }  // namespace
 
 void register_comparison_routes(Service& s) {
@@ -183,12 +174,7 @@ void register_comparison_routes(Service& s) {
         }
         json result = compare(s, run_id, dataset_id, wanted_kpa);
         const auto created = utc_now();
-        const auto id = s.db.transaction([&](Database& db) {
-            auto ins = db.prepare("INSERT INTO comparisons(run_id, dataset_id, result_json, created_at) VALUES (?, ?, ?, ?)");
-            ins.bind_all(run_id, dataset_id, result.dump(), created);
-            ins.run();
-            return db.last_insert_id();
-        });
+        const auto id = s.comparisons.insert(run_id, dataset_id, result, created);
         result["id"] = id;
         result["run_id"] = run_id;
         result["dataset_id"] = dataset_id;
@@ -197,24 +183,10 @@ void register_comparison_routes(Service& s) {
         send_json(res, result, 201);
     });
     s.route("GET", "/comparisons", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto page = page_request(req);
-        send_json(res, s.db.with([&](Database& db) {
-            return read_page(db, page, "comparisons", "SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons",
-                             "id", [](Statement& st) {
-                                 auto c = load_comparison(st);
-                                 for (auto& curve : c["curves"]) curve.erase("residual");  // listing: metrics only
-                                 return c;
-                             });
-        }));
+        send_json(res, s.comparisons.page(page_request(req)));
     });
     s.route("GET", R"(/comparisons/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto id = path_id(req);
-        send_json(res, s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons WHERE id = ?");
-            st.bind_all(id);
-            if (!st.step()) throw not_found("comparison " + std::to_string(id) + " does not exist");
-            return load_comparison(st);
-        }));
+        send_json(res, s.comparisons.get(path_id(req)));
     });
 }
 

@@ -21,12 +21,11 @@ json header_columns(const diagnose::LabDataset& d) {
     return {{"curves", io::lab_curve_index(d)}, {"summary", io::lab_dataset_to_json(d)["summary"]}};
 }
 
-json dataset_header(std::int64_t id, const std::string& name, const std::string& format, const std::string& created,
-                    const json& header) {
-    return {{"id", id},
-            {"name", name},
-            {"format", format},
-            {"created_at", created},
+json dataset_header(const DatasetRow& row, const json& header) {
+    return {{"id", row.id},
+            {"name", row.name},
+            {"format", row.format},
+            {"created_at", row.created_at},
             {"curves", header.value("curves", json::array())},
             {"summary", header.value("summary", json::array())}};
 }
@@ -35,30 +34,12 @@ json dataset_header(std::int64_t id, const std::string& name, const std::string&
 
 diagnose::LabDataset load_dataset(Service& s, std::int64_t id, std::string* name) {
     // The text is read under the database lock, parsed outside it.
-    const std::string text = s.db.with([&](Database& db) {
-        auto st = db.prepare("SELECT name, dataset_json FROM datasets WHERE id = ?");
-        st.bind_all(id);
-        if (!st.step()) throw not_found("dataset " + std::to_string(id) + " does not exist");
-        if (name) *name = st.text(0);
-        return st.text(1);
-    });
-    return io::parse_lab_json(json::parse(text));
+    return io::parse_lab_json(json::parse(s.datasets.dataset_text(id, name)));
 }
 
 int backfill_dataset_headers(Service& s) {
-    std::vector<std::int64_t> ids;
-    s.db.with([&](Database& db) {
-        auto st = db.prepare("SELECT id FROM datasets WHERE header_json IS NULL");
-        while (st.step()) ids.push_back(st.int64(0));
-    });
-    for (const auto id : ids) {
-        const json header = header_columns(load_dataset(s, id, nullptr));
-        s.db.transaction([&](Database& db) {
-            auto up = db.prepare("UPDATE datasets SET header_json = ? WHERE id = ?");
-            up.bind_all(header.dump(), id);
-            up.run();
-        });
-    }
+    const auto ids = s.datasets.ids_without_header();
+    for (const auto id : ids) s.datasets.set_header(id, header_columns(load_dataset(s, id, nullptr)));
     return static_cast<int>(ids.size());
 }
 
@@ -111,27 +92,16 @@ void register_dataset_routes(Service& s) {
         const auto fmt = io::lab_format_name(format);
         const json header = header_columns(d);
         const std::string stored = io::lab_dataset_to_json(d).dump();
-        const auto id = s.db.transaction([&](Database& db) {
-            auto ins = db.prepare(
-                "INSERT INTO datasets(name, format, dataset_json, header_json, created_at) VALUES (?, ?, ?, ?, ?)");
-            ins.bind_all(name, fmt, stored, header.dump(), created);
-            ins.run();
-            return db.last_insert_id();
-        });
+        const auto id = s.datasets.insert(name, fmt, stored, header, created);
         res.set_header("Location", "/datasets/" + std::to_string(id));
-        auto out = dataset_header(id, name, fmt, created, header);
+        auto out = dataset_header(DatasetRow{id, name, fmt, created, header}, header);
         out["notes"] = notes;  // what the reader inferred (kind of a stage, separator)
         send_json(res, out, 201);
     });
     s.route("GET", "/datasets", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto page = page_request(req);
-        send_json(res, s.db.with([&](Database& db) {
-            // The small header column only: no dataset is parsed under the lock.
-            return read_page(db, page, "datasets", "SELECT id, name, format, created_at, header_json FROM datasets", "id",
-                             [](Statement& st) {
-                                 const json header = st.is_null(4) ? json::object() : json::parse(st.text(4));
-                                 return dataset_header(st.int64(0), st.text(1), st.text(2), st.text(3), header);
-                             });
+        // The small header column only: no dataset is parsed under the lock.
+        send_json(res, s.datasets.page(page_request(req), [](const DatasetRow& row) {
+            return dataset_header(row, row.header.value_or(json::object()));
         }));
     });
     // The stored readings are sent as they are stored (they are the JSON upload form
@@ -139,29 +109,13 @@ void register_dataset_routes(Service& s) {
     // is never parsed nor held whole to be read back.
     s.route("GET", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
         const auto id = path_id(req);
-        std::string name, format, created;
-        std::optional<json> header;
-        s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT name, format, created_at, header_json FROM datasets WHERE id = ?");
-            st.bind_all(id);
-            if (!st.step()) throw not_found("dataset " + std::to_string(id) + " does not exist");
-            name = st.text(0);
-            format = st.text(1);
-            created = st.text(2);
-            if (!st.is_null(3)) header = json::parse(st.text(3));
-        });
-        if (!header) header = header_columns(load_dataset(s, id, nullptr));  // stored before the column, not yet filled
-        send_stored_member(s.db, res, dataset_header(id, name, format, created, *header), "data",
-                           StoredValue{"datasets", "dataset_json", id});
+        const auto row = s.datasets.row(id);
+        // A row stored before the header column and not yet filled: built from the readings.
+        const json header = row.header ? *row.header : header_columns(load_dataset(s, id, nullptr));
+        send_stored_member(s.db, res, dataset_header(row, header), "data", DatasetStore::readings(id));
     });
     s.route("DELETE", R"(/datasets/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto id = path_id(req);
-        s.db.transaction([&](Database& db) {
-            auto del = db.prepare("DELETE FROM datasets WHERE id = ?");
-            del.bind_all(id);
-            del.run();
-            if (db.changes() == 0) throw not_found("dataset " + std::to_string(id) + " does not exist");
-        });
+        s.datasets.remove(path_id(req));
         res.status = 204;
     });
 }

@@ -65,12 +65,7 @@ DiagnoseRequest read_diagnose_request(Service& s, const httplib::Request& req, b
         }
     } else {
         if (!body["scheme_id"].is_number_integer()) throw unprocessable("scheme_id must be an integer").at_field("/scheme_id");
-        r.scheme = s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT scheme_json FROM schemes WHERE id = ?");
-            st.bind_all(body["scheme_id"].get<std::int64_t>());
-            if (!st.step()) throw not_found("scheme does not exist").at_field("/scheme_id");
-            return json::parse(st.text(0));
-        });
+        r.scheme = io::without_retired_fields(s.schemes.scheme(body["scheme_id"].get<std::int64_t>(), "/scheme_id"));
         // Stored schemes passed validated_scheme when they were stored.
         r.parsed = io::scheme_from_json(r.scheme);
     }

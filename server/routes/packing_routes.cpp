@@ -10,13 +10,7 @@ namespace triax::service {
 using nlohmann::json;
 
 protocol::ImportedPacking load_packing(Service& s, std::int64_t id) {
-    const auto text = s.db.with([&](Database& db) {
-        auto st = db.prepare("SELECT packing_json FROM packings WHERE id = ?");
-        st.bind_all(id);
-        if (!st.step()) throw not_found("packing " + std::to_string(id) + " does not exist").at_field("/packing_id");
-        return st.text(0);
-    });
-    return io::packing_from_project_json(json::parse(text), "packing " + std::to_string(id));
+    return io::packing_from_project_json(s.packings.packing(id, "/packing_id"), "packing " + std::to_string(id));
 }
 
 void register_packing_routes(Service& s) {
@@ -44,25 +38,13 @@ void register_packing_routes(Service& s) {
                                        ? "project"
                                        : "spheres";
         const auto created = utc_now();
-        const auto id = s.db.transaction([&](Database& db) {
-            auto ins = db.prepare("INSERT INTO packings(name, format, grains, packing_json, created_at) VALUES (?, ?, ?, ?, ?)");
-            ins.bind_all(name, format, static_cast<long long>(p.size()), io::packing_to_project_json(p).dump(), created);
-            ins.run();
-            return db.last_insert_id();
-        });
+        const auto id =
+            s.packings.insert(name, format, static_cast<std::int64_t>(p.size()), io::packing_to_project_json(p), created);
         res.set_header("Location", "/packings/" + std::to_string(id));
         send_json(res, {{"id", id}, {"name", name}, {"format", format}, {"grains", p.size()}, {"created_at", created}}, 201);
     });
     s.route("GET", R"(/packings/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto id = path_id(req);
-        const json out = s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, name, format, grains, packing_json, created_at FROM packings WHERE id = ?");
-            st.bind_all(id);
-            if (!st.step()) throw not_found("packing " + std::to_string(id) + " does not exist");
-            return json{{"id", st.int64(0)},      {"name", st.text(1)},        {"format", st.text(2)},
-                        {"grains", st.int64(3)},  {"created_at", st.text(5)}, {"packing", json::parse(st.text(4))}};
-        });
-        send_json(res, out);
+        send_json(res, s.packings.get(path_id(req)));
     });
 }
 

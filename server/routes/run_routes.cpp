@@ -39,14 +39,9 @@ void register_run_routes(Service& s) {
             packing_id = body["packing_id"].get<std::int64_t>();
             // The grains must fit this scheme's specimen: refused here, naming the grain's line.
             auto packing = load_packing(s, *packing_id);
-            const std::string scheme_text = s.db.with([&](Database& db) {
-                auto st = db.prepare("SELECT scheme_json FROM schemes WHERE id = ?");
-                st.bind_all(scheme_id);
-                if (!st.step()) throw not_found("scheme " + std::to_string(scheme_id) + " does not exist").at_field("/scheme_id");
-                return st.text(0);
-            });
+            const auto scheme = s.schemes.scheme(scheme_id, "/scheme_id");
             try {
-                protocol::validate_packing(packing, io::scheme_from_json(json::parse(scheme_text)));
+                protocol::validate_packing(packing, io::scheme_from_json(scheme));
             } catch (const InputError& e) {
                 throw unprocessable(e.what()).at_field("/packing_id");
             }

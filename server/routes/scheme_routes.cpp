@@ -72,12 +72,7 @@ json store_scheme(Service& s, const json& scheme, const std::string& prefix) {
     const protocol::TestScheme parsed = validated_scheme(s, scheme, prefix);
     const json normalised = io::scheme_to_json(parsed);
     const std::string name = normalised.value("name", std::string("custom"));
-    const auto id = s.db.transaction([&](Database& db) {
-        auto ins = db.prepare("INSERT INTO schemes(name, scheme_json, created_at) VALUES (?, ?, ?)");
-        ins.bind_all(name, normalised.dump(), utc_now());
-        ins.run();
-        return db.last_insert_id();
-    });
+    const auto id = s.schemes.insert(name, normalised);
     return {{"id", id}, {"name", name}, {"scheme", normalised}};
 }
 
@@ -86,22 +81,11 @@ void register_scheme_routes(Service& s) {
         send_json(res, store_scheme(s, parse_body(req), ""), 201);
     });
     s.route("GET", "/schemes", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto page = page_request(req);
-        send_json(res, s.db.with([&](Database& db) {
-            return read_page(db, page, "schemes", "SELECT id, name, created_at FROM schemes", "id", [](Statement& st) {
-                return json{{"id", st.int64(0)}, {"name", st.text(1)}, {"created_at", st.text(2)}};
-            });
-        }));
+        send_json(res, s.schemes.page(page_request(req)));
     });
     s.route("GET", R"(/schemes/([^/]+))", [&s](const httplib::Request& req, httplib::Response& res) {
-        const auto id = path_id(req);
-        json out = s.db.with([&](Database& db) {
-            auto st = db.prepare("SELECT id, name, scheme_json, created_at FROM schemes WHERE id = ?");
-            st.bind_all(id);
-            if (!st.step()) throw not_found("scheme " + std::to_string(id) + " does not exist");
-            return json{{"id", st.int64(0)}, {"name", st.text(1)}, {"scheme", json::parse(st.text(2))},
-                        {"created_at", st.text(3)}};
-        });
+        auto out = s.schemes.get(path_id(req));
+        out["scheme"] = io::without_retired_fields(std::move(out["scheme"]));
         send_json(res, out);
     });
 }

@@ -1,37 +1,35 @@
 #pragma once
 // Runs as a resource: creation (queued), the job that executes one run on a worker, cancel,
 // re-run, status, and recovery at start-up. A run's state lives in the `runs` table and its
-// history in `run_events`; every state change and its event are written in one transaction
-// so the row and the stream never disagree, even after kill -9.
+// history in `run_events`; the lifecycle is the JobService's (server/jobs/job_service.hpp),
+// this class is what is particular to a run: its row, its executor and its result.
 #include "server/events/event_log.hpp"
 #include "server/http/paging.hpp"
-#include "server/jobs/cancel_flags.hpp"
 #include "server/jobs/job_queue.hpp"
+#include "server/jobs/job_service.hpp"
 #include "server/runs/result_cache.hpp"
 #include "server/runs/run_executor.hpp"
 #include "server/store/database.hpp"
 
-#include <atomic>
-#include <memory>
 #include <optional>
 
 namespace triax::service {
 
-class RunService {
+class RunService : private JobWork {
 public:
     RunService(Database& db, EventLog& events, JobQueue& queue, RunExecutor executor, int default_threads,
                int max_threads);
 
     // Start-up: runs left queued or running by a previous process become "interrupted"
     // (with an error event, so their streams end). Returns how many.
-    int recover_interrupted();
+    int recover_interrupted() { return jobs_.recover_interrupted(); }
 
     // Inserts a queued run and enqueues it. ApiError 429 when the queue is full, 422 for a
     // thread count outside [1, max_threads].
     // packing_id: the stored packing the run starts from (404 if unknown); a re-run keeps it.
     nlohmann::json submit(std::int64_t scheme_id, std::optional<int> threads, std::optional<std::int64_t> rerun_of = {},
                           std::optional<std::int64_t> packing_id = {});
-    void cancel(std::int64_t id);
+    void cancel(std::int64_t id) { jobs_.cancel(id); }
     nlohmann::json rerun(std::int64_t id);
 
     nlohmann::json status(std::int64_t id);  // 404 if unknown
@@ -48,19 +46,18 @@ public:
     std::optional<std::string> snapshot_bytes(std::int64_t id, const std::string& stage);
 
     // Graceful stop: running runs are asked to stop and recorded as "interrupted".
-    void begin_shutdown();
+    void begin_shutdown() { jobs_.begin_shutdown(); }
 
 private:
-    void execute(std::int64_t id, std::shared_ptr<std::atomic<bool>> cancel);
-    void finish(std::int64_t id, const std::string& status, const std::string& detail);
+    StoreResult run(std::int64_t id, const std::function<bool()>& cancelled) override;
+    void emit(std::int64_t id, const std::string& type, const nlohmann::json& data);
     Database& db_;
     EventLog& events_;
     JobQueue& queue_;
     RunExecutor executor_;
     int default_threads_, max_threads_;
-    CancelFlags cancel_flags_;
     ResultCache results_{16};
-    std::atomic<bool> shutting_down_{false};
+    JobService jobs_;
 };
 
 }  // namespace triax::service

@@ -4,6 +4,8 @@
 // from schema/migrations/NNN_*.sql applied in order at open. One connection is shared by
 // the HTTP threads and the workers; every use goes through `with()` which holds its mutex,
 // so callers never see a half-finished transaction of another thread.
+#include "server/store/not_found.hpp"
+
 #include <sqlite3.h>
 
 #include <cstdint>
@@ -107,6 +109,25 @@ public:
     }
 
     Statement prepare(std::string_view sql) { return Statement(db_, sql); }
+    // Runs the INSERT `sql` with `args` in a transaction of its own; the new row's id.
+    template <class... A> std::int64_t insert(std::string_view sql, const A&... args) {
+        return transaction([&](Database& db) {
+            auto st = db.prepare(sql);
+            st.bind_all(args...);
+            st.run();
+            return db.last_insert_id();
+        });
+    }
+    // The row `sql` selects for `key` (its one parameter) as `read(Statement&)` makes it;
+    // throws `missing` when there is none.
+    template <class F> auto row(std::string_view sql, std::int64_t key, const NotFound& missing, F&& read) {
+        return with([&](Database& db) {
+            auto st = db.prepare(sql);
+            st.bind_all(key);
+            if (!st.step()) throw missing;
+            return read(st);
+        });
+    }
     void exec(const std::string& sql);  // only for fixed SQL text (pragmas, migrations)
     std::int64_t last_insert_id() const { return sqlite3_last_insert_rowid(db_); }
     int changes() const { return sqlite3_changes(db_); }

@@ -33,7 +33,6 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     TestScheme base;
     base.effects.contact_creep_viscosity = true;
     base.effects.moisture_bonding = true;
-    base.effects.rolling_resistance = true;
     base.micro.rolling_friction = 0.2;
     base.micro.bond_rolling_friction = 0.6;
     base.micro.crushing_strength_pa = 1.0e6;
@@ -86,8 +85,7 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     CHECK(s.micro.bond_rolling_friction == 0.0);
     CHECK(s.micro.crushing_strength_pa == 0.0);
     CHECK_FALSE(s.effects.contact_creep_viscosity);
-    CHECK(s.effects.rolling_resistance);
-    CHECK(s.effects.rolling_friction == Approx(0.25));
+    CHECK(s.micro.rolling_friction == Approx(0.25));
     CHECK(s.max_particles == 300);
     CHECK(s.specimen.target_porosity == Approx(kDiagnosisGenerationPorosity));
     CHECK(s.specimen.compaction_friction_ratio == Approx(0.44));

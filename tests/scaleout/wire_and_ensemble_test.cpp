@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "server/io/ensemble_json.hpp"
 #include "server/scaleout/ensemble.hpp"
 #include "server/scaleout/wire_format.hpp"
 
@@ -104,9 +105,9 @@ TEST_CASE("ensemble: mean and band per grid point over the members that reach it
     CHECK(s.stages[0].time_s[1] == Approx(10.0));
     CHECK(s.stages[0].time_s.back() == Approx(100.0));
     CHECK(s.stages[0].axial_strain.mean.back() == Approx(0.006));
-    const auto j = ensemble_to_json(s, true);
+    const auto j = triax::io::ensemble_to_json(s, true);
     CHECK(j["seeds_ok"] == 2);
     CHECK(j["members"][2]["ok"] == false);
     CHECK(j["q_failure_kPa"]["mean"].get<double>() == Approx(2000.0));
-    CHECK(shear_band_csv(s).rfind("axial_strain_pct,n_seeds,q_mean_kPa", 0) == 0);
+    CHECK(triax::io::shear_band_csv(s).rfind("axial_strain_pct,n_seeds,q_mean_kPa", 0) == 0);
 }

@@ -103,7 +103,6 @@ TEST_CASE("the final model's schemes are the calibrated DEM model, one per lab c
         CHECK(s["micro"]["bond_shear_strength_kPa"].get<double>() == Approx(20.0));
         CHECK(s["specimen"]["compaction_friction_ratio"].get<double>() == 0.4);
         // The physical effects as scheme_for sets them.
-        CHECK(s["effects"]["rolling_resistance"] == true);
         CHECK(s["micro"]["rolling_friction"].get<double>() == 0.15);
         CHECK(s["micro"]["crushing_strength_MPa"].get<double>() == Approx(0.6 / 0.5));
         CHECK(s["effects"]["accelerated_bond_corrosion"] == false);
@@ -148,7 +147,6 @@ TEST_CASE("the final model's schemes leave out what the diagnosis's runs leave o
         const json out = model_schemes_json(scheme, lab, options, report);
         REQUIRE(out.size() == 1);
         const json& s = out[0]["scheme"];
-        CHECK(s["effects"]["rolling_resistance"] == false);
         CHECK(s["micro"]["rolling_friction"].get<double>() == 0.0);
         CHECK(s["effects"]["seating_error"] == false);
         CHECK(s["effects"]["membrane_compliance"] == false);

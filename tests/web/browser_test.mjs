@@ -922,7 +922,7 @@ try {
   const creepOverlay = await page.$eval('#plot-creep', f => [...f.chart.series.keys()].filter(n => /^run #/.test(n)).length);
   check(runOverlay === modelRows && creepOverlay === 2, `a finished run is overlaid on another run's plots (${runOverlay} q points, ${creepOverlay} creep stages)`);
   const fittedScheme = fittedRun ? (await (await fetch(`${base}/schemes/${(await (await fetch(`${base}/runs/${fittedRun}`)).json()).scheme_id}`)).json()).scheme : {};
-  check(Math.abs((fittedScheme.micro?.normal_modulus_MPa ?? 0) - 120) < 1e-6 && fittedScheme.micro?.friction === 0.45 && fittedScheme.effects?.rolling_resistance === true,
+  check(Math.abs((fittedScheme.micro?.normal_modulus_MPa ?? 0) - 120) < 1e-6 && fittedScheme.micro?.friction === 0.45 && fittedScheme.micro?.rolling_friction === 0.12,
     `a report without model_schemes: "run with these parameters" submits the scheme diagnosed with the fitted values (run #${fittedRun}: ${fittedScheme.micro?.normal_modulus_MPa} MPa, μ ${fittedScheme.micro?.friction}, rolling ${fittedScheme.micro?.rolling_friction})`);
   // The same report with the calibrated model's schemes (report.model_schemes, one per lab
   // condition, as the service stores them): the line names the model, the σ3 picked is the
@@ -931,7 +931,6 @@ try {
     const s = await tinyScheme(1);
     Object.assign(s.specimen, { lateral_boundary: 'grain_pressure', target_porosity: 0.45 });
     Object.assign(s.micro, { friction: 0.37, rolling_friction: 0.12 });
-    Object.assign(s.effects, { rolling_resistance: true, rolling_friction: 0.12 });
     Object.assign(s.loading, { confining_pressure_kPa: sigma3, stress_levels: stages.map(() => 0.5), stage_durations_min: stages });
     s.name = `tiny (calibrated, ${sigma3} kPa)`;
     return s;
