@@ -217,15 +217,6 @@ Fit DiagnosisDriver::add_effects(Fit current, Fit& base_source) {
 //    does, or at least halves it). A membrane's q + k eps also bends a base whose curve shape merely differs
 //    from the lab's (Duncan-Chang curves that harden to 15 %: 26.9 -> 19.2 % against a floor
 //    of 17.9 %); on another packing that bend gains little, so it is not named.
-// The BIC an artefact must gain to be named with paired packings: 6, the "strong evidence"
-// bound of Kass and Raftery (1995), against the options' 10 ("very strong") for a physical
-// effect. An apparatus correction is expected in a lab's readings (ASTM D4767 prescribes
-// the membrane's), a missing physics is not: the prior odds differ. Measured on the outside
-// suite (docs/diagnosis.md section 10): a 240 kPa membrane gained 6.5; seating and membrane
-// corrections that stood in for the shape of another engine's rolling resistance gained
-// 0.2-2.4 with paired gains as consistent as the real membrane's.
-constexpr double kArtefactBicThreshold = 6.0;
-
 Fit DiagnosisDriver::settle_artefacts(Fit current) {
     const std::size_t n = eval_.readings();
     auto without = [&](Effect e) {
@@ -271,9 +262,7 @@ Fit DiagnosisDriver::settle_artefacts(Fit current) {
         st.delta_bic = bic(current.cal.rss, n, ne, current.specs.size()) - bic(w.cal.rss, n, ne, w.specs.size());
         st.n_effective = ne;
         st.gain_by_confining = gains_by_confining(w.cal.residual, current.cal.residual, eval_.ranges(), series_confining);
-        const bool every_pressure = std::all_of(st.gain_by_confining.begin(), st.gain_by_confining.end(),
-                                                [](const auto& g) { return g.second > 0.0; });
-        bool seen = false;
+        bool named = false;
         if (opt_.noise_seeds > 1) {
             // The packings measure the gain's noise; BIC (at the artefacts' bound) says
             // whether the gain is large against the misfit that remains: a correction standing
@@ -281,13 +270,13 @@ Fit DiagnosisDriver::settle_artefacts(Fit current) {
             if (!with_run) with_elsewhere = nrmse_on_other_packings(current), with_run = true;
             const std::vector<double> without_elsewhere = nrmse_on_other_packings(w);
             st.paired_gains = paired_gains(st.nrmse_before - st.nrmse_after, without_elsewhere, with_elsewhere);
-            seen = st.delta_bic < -kArtefactBicThreshold && summarise_paired_gains(st.paired_gains).seen();
+            named = artefact_named(st.delta_bic, st.paired_gains, st.gain_by_confining);
         } else {
             const bool beyond_packing = st.nrmse_before - st.nrmse_after > rep_.noise.model_nrmse;
             const bool halves = st.nrmse_after <= 0.5 * st.nrmse_before;
-            seen = st.delta_bic < -opt_.bic_threshold && (beyond_packing || halves);
+            named = st.delta_bic < -opt_.bic_threshold && (beyond_packing || halves);
         }
-        if (!seen || !every_pressure) rep_.artefacts_below_threshold.emplace_back(effect_name(e));
+        if (!named) rep_.artefacts_below_threshold.emplace_back(effect_name(e));
         rep_.steps.push_back(st);
     }
     return current;

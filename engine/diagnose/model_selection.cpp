@@ -66,6 +66,13 @@ PairedGainSummary summarise_paired_gains(const std::vector<double>& gains) {
     return s;
 }
 
+bool artefact_named(double delta_bic, const std::vector<double>& paired_gains,
+                    const std::vector<std::pair<double, double>>& gain_by_confining) {
+    const bool every_pressure = std::all_of(gain_by_confining.begin(), gain_by_confining.end(),
+                                            [](const auto& g) { return g.second > 0.0; });
+    return delta_bic < -kArtefactBicThreshold && summarise_paired_gains(paired_gains).seen() && every_pressure;
+}
+
 double median_paired_spread(const std::vector<std::vector<double>>& gain_sets) {
     std::vector<double> spreads;
     for (const auto& g : gain_sets)

@@ -40,6 +40,16 @@ struct PairedGainSummary {
 };
 PairedGainSummary summarise_paired_gains(const std::vector<double>& gains);
 
+// Whether a test artefact kept in the final model is named, from its step's figures with
+// paired packings (two or more): it lowers BIC by more than kArtefactBicThreshold, its
+// paired gain exceeds the gain's spread, and it lowers the misfit at every confining
+// pressure (an apparatus artefact acts on every specimen). 6 is Kass and Raftery's
+// "strong evidence" bound, against 10 ("very strong") for a physical effect: a lab expects
+// apparatus corrections (ASTM D4767 prescribes the membrane's), not a missing physics.
+inline constexpr double kArtefactBicThreshold = 6.0;
+bool artefact_named(double delta_bic, const std::vector<double>& paired_gains,
+                    const std::vector<std::pair<double, double>>& gain_by_confining);
+
 // The median spread over sets of paired gains of two or more packings (0 if none): the gain
 // a change must exceed to be seen.
 double median_paired_spread(const std::vector<std::vector<double>>& gain_sets);

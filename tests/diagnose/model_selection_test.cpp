@@ -67,3 +67,20 @@ TEST_CASE("smallest nameable gain: the median spread of paired gains over two or
     CHECK(median_paired_spread({{0.01, 0.02, 0.03}, {0.0, 0.02, 0.04}, {0.0, 0.04, 0.08}, {0.3}}) == Approx(0.02));
     CHECK(median_paired_spread({{0.01, 0.02, 0.03}, {0.0, 0.02, 0.04}}) == Approx(0.015));
 }
+
+// The outside suite's artefact steps (YADE data, docs/diagnosis.md section 10), as the
+// reports stored them: the real ones are named, the corrections that stood in for the
+// shape of YADE's rolling resistance are not, though their paired gains are as consistent.
+TEST_CASE("artefact naming on the outside suite's figures: BIC beyond 6, paired, every pressure", "[diagnose][bic]") {
+    // membrane (K_m 240 kPa), three pressures
+    CHECK(artefact_named(-6.54, {0.0237, 0.0368, 0.0329}, {{50e3, 0.0509}, {100e3, 0.0187}, {200e3, 0.0133}}));
+    // seating (0.5 % closure)
+    CHECK(artefact_named(-14.83, {0.0516, 0.0604, 0.0175}, {{50e3, 0.0567}, {100e3, 0.0886}, {200e3, 0.0111}}));
+    // rolling_strong's seating correction and rolling_weak's membrane correction: stand-ins
+    CHECK_FALSE(artefact_named(-2.39, {0.0193, 0.0083, 0.0167}, {{50e3, 0.0223}, {100e3, 0.0175}}));
+    CHECK_FALSE(artefact_named(-0.43, {0.0172, 0.0216, 0.0279}, {{100e3, 0.0172}}));
+    // plain_loose's membrane: BIC beyond 6 but a paired gain within its spread
+    CHECK_FALSE(artefact_named(-6.68, {0.1046, -0.0706, 0.0165}, {{100e3, 0.1046}}));
+    // Strong and paired, but worse at one pressure: not an apparatus artefact.
+    CHECK_FALSE(artefact_named(-14.83, {0.0516, 0.0604, 0.0175}, {{50e3, 0.0567}, {100e3, 0.0886}, {200e3, -0.002}}));
+}

@@ -1,5 +1,5 @@
 // The per-step shortcuts of the time step (docs/engine.md, "Performance of the full-size
-// paper group", session 7) must give exactly what the plain code gave: the sqrt-free
+// paper group") must give exactly what the plain forms give: the sqrt-free
 // comparisons of the contact law and of the stability check, and the branch-free sign of
 // local damping.
 #include "engine/contact/linear.hpp"
@@ -54,7 +54,7 @@ TEST_CASE("branch-free sign of local damping equals the conditional form", "[eng
     CHECK(sign_of(0.0) == 0.0);
     CHECK(sign_of(-0.0) == 0.0);
     CHECK(sign_of(nan) == 0.0);
-    // Session 8: on x86 sign_of is two mask compares; also the edges and the sign of the
+    // On x86 sign_of is two mask compares: the edges and the sign of the
     // zero (+0.0, as (v > 0) - (v < 0) gives: a -0.0 would still compare equal above).
     const double inf = std::numeric_limits<double>::infinity(), tiny = std::numeric_limits<double>::denorm_min();
     CHECK(sign_of(inf) == 1.0);
