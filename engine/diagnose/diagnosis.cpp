@@ -65,7 +65,7 @@ DiagnosisPlan plan_diagnosis(const LabDataset& lab, const ForwardModel& model, c
     std::vector<double> pressures;
     for (const auto& c : lab.curves)
         if (std::none_of(pressures.begin(), pressures.end(),
-                         [&](double s) { return std::abs(s - c.confining_pa) <= 0.02 * std::max(s, 1.0); }))
+                         [&](double s) { return same_confining(c.confining_pa, s); }))
             pressures.push_back(c.confining_pa);
     p.engine_runs_per_model_run = std::max<int>(1, static_cast<int>(pressures.size()));
     return p;

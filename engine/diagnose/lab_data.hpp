@@ -2,10 +2,19 @@
 // Measured laboratory readings in the engine's canonical form: SI units, soil-mechanics
 // signs (compression positive, volumetric strain positive = contraction). Parsers of CSV,
 // GDS-Lab, AGS4 and JSON uploads (server/io) produce this; comparison and diagnosis use it.
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
 namespace triax::diagnose {
+
+// Whether a reading's confining pressure is the reference's (Pa): within 2 % of the
+// reference (at least 1 Pa's share), the tolerance a lab's cell control holds. The
+// diagnosis groups curves by sigma3 through it (plan, residual layout, creep instants).
+inline bool same_confining(double confining_pa, double reference_pa) {
+    return std::abs(confining_pa - reference_pa) <= 0.02 * std::max(reference_pa, 1.0);
+}
 
 enum class CurveKind { Shear, Creep };
 

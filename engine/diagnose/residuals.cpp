@@ -114,7 +114,7 @@ void push_series(std::vector<ResidualSeries>& out, ResidualSeries s, const std::
 const LabCurve* matching_curve(const LabDataset& d, CurveKind kind, int stage, double confining_pa) {
     for (const auto& c : d.curves)
         if (c.kind == kind && (kind == CurveKind::Shear || c.stage == stage) &&
-            std::abs(c.confining_pa - confining_pa) <= 0.02 * std::max(confining_pa, 1.0))
+            same_confining(c.confining_pa, confining_pa))
             return &c;
     return nullptr;
 }
@@ -167,7 +167,7 @@ std::vector<ResidualSeries> residual_layout(const LabDataset& lab) {
             while (first < y.size() && !(std::isfinite(c.time_s[first]) && std::isfinite(y[first]))) ++first;
             if (first == y.size()) continue;
             auto it = std::find_if(instants.begin(), instants.end(), [&](const InstantReadings& r) {
-                return r.as_strain == as_strain && std::abs(r.confining_pa - c.confining_pa) <= 0.02 * std::max(c.confining_pa, 1.0);
+                return r.as_strain == as_strain && same_confining(r.confining_pa, c.confining_pa);
             });
             if (it == instants.end()) it = instants.insert(instants.end(), InstantReadings{c.confining_pa, as_strain, {}, {}, {}});
             it->stage.push_back(static_cast<double>(c.stage));
@@ -189,7 +189,7 @@ std::vector<ResidualSeries> residual_layout(const LabDataset& lab) {
     for (auto& a : out) {
         if (a.quantity != Quantity::CreepStrain && a.quantity != Quantity::CreepDeformation) continue;
         for (const auto& b : out)
-            if (b.quantity == a.quantity && std::abs(b.confining_pa - a.confining_pa) <= 0.02 * std::max(a.confining_pa, 1.0))
+            if (b.quantity == a.quantity && same_confining(b.confining_pa, a.confining_pa))
                 a.scale = std::max(a.scale, b.scale);
     }
     for (const auto& r : instants) {
