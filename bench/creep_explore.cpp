@@ -3,6 +3,7 @@
 // Usage: creep_explore [key=value ...]  (keys: bench/reduced_creep_args.hpp; e.g. crush=1
 //        for the presets' crushable grains and bonds on the reduced specimen)
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -60,6 +61,21 @@ int main(int argc, char** argv) {
                 if (p.time_s <= tm + 1e-6) d = p.axial_deformation_m;
             std::printf(" %.4f", (d - st.instant_deformation_m) * 1e3);
         }
+        // Creep strain per decade of time (% of the height): least-squares slope of the strain
+        // against log10 t over [t0, t1]: all (1 min-end, the diagnosis's lab figure, lab_macro.hpp);
+        // early (1 min-1 h) and late (1 h-end) show whether the
+        // creep is logarithmic in time (equal slopes).
+        auto per_decade = [&](double t0, double t1) {
+            double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+            for (const auto& p : st.translated)
+                if (p.time_s >= t0 - 1e-6 && p.time_s <= t1 + 1e-6 && p.time_s > 0.0) {
+                    const double x = std::log10(p.time_s), y = 100.0 * p.axial_strain;
+                    n += 1; sx += x; sy += y; sxx += x * x; sxy += x * y;
+                }
+            return n >= 3 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : 0.0;
+        };
+        std::printf("  per-decade %% all %.4f early %.4f late %.4f", per_decade(60.0, st.duration_s),
+                    per_decade(60.0, 3600.0), per_decade(3600.0, st.duration_s));
         // Breakage energy dissipated during the stage (crushing).
         double b0 = -1.0, b1 = 0.0;
         for (const auto& e : r.energies)

@@ -2,7 +2,7 @@
 // Shared set-up of the creep bench programs (creep_explore, paper_group_increment_check):
 // the reduced CI creep specimen of tests/protocol/triaxial_protocol_test.cpp and the
 // key=value overrides they accept. One place, so the two programs run the same specimen.
-// Keys: group (A-E: the full-size paper group, given first) h4 (the last stage's hours) A beta sh eps age sw dmax b1 b2 fth
+// Keys: group (A-E: the full-size paper group, given first) h4 (the last stage's hours) a dc tr m (the rate-and-state law: a, D_c in m, renewed age in s, m = b / a) b1 b2 fth
 //       bmu (bond friction) brf (bond rolling friction: the cement neck) bss bns (bond shear/normal strength, kPa) sigc (crushing strength, MPa;
 //       0 = unbreakable) wm (its Weibull modulus) ch (its hardening ratio) cbb (1: a crushing contact loses its bond) relax seed dmm rmin_mm
 //       ratio first growth cap threads gp (1: grain-pressure boundary) crush(1 = the paper-group presets' micro-parameters: bonds and
@@ -63,15 +63,12 @@ inline bool apply_creep_arg(ReducedCreepArgs& a, const std::string& arg) {
         a.sigma3_kpa = s.loading.confining_pressure_pa / 1e3;
         a.hours = s.loading.stage_durations_s.empty() ? a.hours : s.loading.stage_durations_s.front() / 3600.0;
     }
-    else if (k == "A") s.creep.slip_rate_a_m_s = v;
-    else if (k == "beta") s.creep.slip_beta = v;
-    else if (k == "sh") s.creep.slip_hardening_length_m = v;
-    else if (k == "eps") s.creep.capacity_offset = v;
-    else if (k == "age") s.creep.aging_margin = v;
-    else if (k == "sw") s.creep.wear_length_m = v;
+    else if (k == "a") s.creep.direct_effect_a = v;
+    else if (k == "dc") s.creep.critical_slip_m = v;
+    else if (k == "tr") s.creep.renewed_age_s = v;
+    else if (k == "m") s.creep.state_exponent_m = v;
     else if (k == "b2") s.creep.bond_corrosion_b2 = v;
     else if (k == "fth") s.creep.bond_corrosion_threshold = v;
-    else if (k == "dmax") s.creep.wear_max = v;
     else if (k == "b1") s.creep.bond_corrosion_rate_b1_per_s = v;
     else if (k == "bmu") s.micro.bond_friction = v;
     else if (k == "brf") s.micro.bond_rolling_friction = v;

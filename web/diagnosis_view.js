@@ -45,8 +45,8 @@ export const PARAMETERS = {
     apply: (s, v) => { s.micro.crushing_strength_MPa = v > 0 ? 0.6 / v : 0; } },
   extra_bond_damage_rate: { label: 'bond corrosion scale (1 + x)', unit: '–', value: v => 1 + v, field: '/effects/bond_corrosion_scale',
     apply: (s, v) => { if (v > 0) { s.effects.accelerated_bond_corrosion = true; s.effects.bond_corrosion_scale = 1 + v; } } },
-  slip_hardening_length: { label: 'creep slip-hardening length', unit: 'µm', factor: 1e6, field: '/creep/slip_hardening_length_um',
-    apply: (s, v) => { s.effects.contact_creep_viscosity = v > 0; if (v > 0) s.creep.slip_hardening_length_um = v * 1e6; } },
+  direct_effect_a: { label: 'contact creep: rate sensitivity a (rate-and-state)', unit: '–', factor: 1, field: '/creep/direct_effect_a',
+    apply: (s, v) => { s.effects.contact_creep_viscosity = v > 0; if (v > 0) s.creep.direct_effect_a = v; } },
   seating_strain: { label: 'seating displacement (strain × height)', unit: 'mm', scheme: (s, v) => v * s.specimen.height_mm, field: '/effects/seating_displacement_mm',
     apply: (s, v) => { s.effects.seating_error = true; s.effects.seating_displacement_mm = v * s.specimen.height_mm; } },
   // K_m = 4 E_m t_m / D [Pa] as the membrane modulus E_m: the service's scheme_value (kPa).
@@ -85,7 +85,7 @@ export function modelSchemeText(s) {
   const effects = [micro.rolling_friction > 0 && `rolling friction ${num(micro.rolling_friction)}`,
     micro.crushing_strength_MPa > 0 && `crushable grains (${num(micro.crushing_strength_MPa)} MPa)`,
     fx.accelerated_bond_corrosion && `bond corrosion ×${num(fx.bond_corrosion_scale)}`,
-    fx.contact_creep_viscosity && `contact creep (slip-hardening ${num(s.creep?.slip_hardening_length_um)} µm)`,
+    fx.contact_creep_viscosity && `contact creep (rate-and-state a ${num(s.creep?.direct_effect_a)})`,
     fx.seating_error && `seating ${num(fx.seating_displacement_mm)} mm`,
     fx.membrane_compliance && `membrane compliance (E_m ${num(fx.membrane_modulus_kPa)} kPa)`].filter(Boolean);
   return [

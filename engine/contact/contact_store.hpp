@@ -11,10 +11,10 @@
 // Crushing (grain_crushing.hpp) writes plastic_overlap between cycles (m, the linear law
 // uses overlap - plastic_overlap; kept while the grains still overlap geometrically).
 // The creep mechanism (engine/creep) reads and writes between cycles: damage (bond
-// corrosion in [0, 1], bond strengths are scaled by 1 - damage), asperity_wear (in [0, 1), the Coulomb limit of an unbonded
-// contact is mu (1 - wear) Fn), creep_slip (m, the contact's accumulated delayed slip),
-// shear_force (viscous relaxation of the shear spring). All reset when a contact opens:
-// a new contact has fresh asperities.
+// corrosion in [0, 1], bond strengths are scaled by 1 - damage), contact_age (s, the
+// rate-and-state friction's state theta), creep_reference_shear (N, |Fs| at the last creep
+// update: the displacement since renews the state), shear_force (the creep slip unloads
+// the shear spring). All reset when a contact opens: a new contact is young.
 #include "engine/core/types.hpp"
 
 #include <cstdint>
@@ -38,8 +38,8 @@ struct ContactStore {
     std::vector<double> reference_gap;       // m, gap at bond installation (bonded pairs start unloaded)
     std::vector<double> plastic_overlap;     // m, crushed (lost) overlap of a crushable grain contact
     std::vector<double> damage;              // [0, 1], bond corrosion
-    std::vector<double> asperity_wear;       // [0, 1), friction loss of the contact
-    std::vector<double> creep_slip;          // m, accumulated delayed (creep) slip
+    std::vector<double> contact_age;         // s, rate-and-state state theta (0: none yet)
+    std::vector<double> creep_reference_shear;  // N, |Fs| after the last creep update
     // Per-step results (slots gathered per particle in a fixed order). A slot that is not
     // active holds zero force and torques: the World's gather adds every candidate slot,
     // so a caller that clears `active` between cycles must clear these three as well.
@@ -57,7 +57,7 @@ struct ContactStore {
         normal_force.resize(n); shear_force.resize(n); rolling_moment.resize(n);
         bonded.resize(n); neck_cracked.resize(n); bond_normal_strength.resize(n); bond_shear_strength.resize(n);
         reference_gap.resize(n); plastic_overlap.resize(n); damage.resize(n);
-        asperity_wear.resize(n); creep_slip.resize(n);
+        contact_age.resize(n); creep_reference_shear.resize(n);
         force_on_j.resize(n); torque_on_i.resize(n); torque_on_j.resize(n);
         contact_point.resize(n); overlap.resize(n);
     }
@@ -74,8 +74,8 @@ struct ContactStore {
         reference_gap[k] = 0.0;
         plastic_overlap[k] = 0.0;
         damage[k] = 0.0;
-        asperity_wear[k] = 0.0;
-        creep_slip[k] = 0.0;
+        contact_age[k] = 0.0;
+        creep_reference_shear[k] = 0.0;
         active[k] = 0;
     }
 
@@ -92,8 +92,8 @@ struct ContactStore {
         reference_gap[to] = other.reference_gap[from];
         plastic_overlap[to] = other.plastic_overlap[from];
         damage[to] = other.damage[from];
-        asperity_wear[to] = other.asperity_wear[from];
-        creep_slip[to] = other.creep_slip[from];
+        contact_age[to] = other.contact_age[from];
+        creep_reference_shear[to] = other.creep_reference_shear[from];
     }
 };
 

@@ -4,8 +4,7 @@
 // kinematics and owns the history slots; the law only turns them into forces.
 //
 //   Fn = kn * overlap + Fd,   Fd = -2 beta sqrt(m_eff kn) v_n        (compression > 0)
-//   Fs <- rotate(Fs) - ks * v_s dt,  |Fs| <= mu (1 - wear) Fn  (Coulomb slider, unbonded
-//     only; wear = asperity wear of the creep mechanism, 0 for a fresh contact)
+//   Fs <- rotate(Fs) - ks * v_s dt,  |Fs| <= mu Fn  (Coulomb slider, unbonded only)
 //   contact bond (if intact): tension allowed; breaks when -Fn_el >= sn (1 - damage)
 //     (tension) or |Fs| >= ss (1 - damage) + mu_b max(Fn_el, 0) (shear; mu_b = bond
 //     friction, 0 for PFC's contact bond; a bond friction above mu fades with the damage,
@@ -65,7 +64,6 @@ struct LinearContact {
         double bond_normal_strength;
         double bond_shear_strength;
         double damage;
-        double asperity_wear;        // [0, 1): friction loss of a worn contact
     };
 
     // What happened this step (energies in J).
@@ -156,7 +154,7 @@ struct LinearContact {
             }
         }
         if (!bonded) {
-            const double limit = p.friction * (1.0 - h.asperity_wear) * fn_el;
+            const double limit = p.friction * fn_el;
             const double fs2 = fs.squaredNorm();
             if (norm_above(fs2, limit)) {
                 const double mag = std::sqrt(fs2);

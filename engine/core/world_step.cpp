@@ -162,8 +162,7 @@ ContactSums ball_block(ContactStore& c, const ParticleArrays& pa, const std::vec
         kin.r_bar = ri * rj / (ri + rj);
         kin.dt = dt;
         LinearContact::History h{c.normal_force[k], c.shear_force[k], c.rolling_moment[k], &c.bonded[k], &c.neck_cracked[k],
-                                 c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k],
-                                 c.asperity_wear[k]};
+                                 c.bond_normal_strength[k], c.bond_shear_strength[k], c.damage[k]};
         const LinearContact::Outcome o = LinearContact::evaluate<kRolling, kStateEnergy>(params[c.law[k]], kin, h);
         sums.add(o);
         c.overlap[k] = kin.overlap;
@@ -276,7 +275,7 @@ void World::wall_contacts_pass(StepState& st) {
         kin.r_bar = r;
         kin.dt = dt_;
         Vec3 no_moment = Vec3::Zero();
-        LinearContact::History h{wc.normal_force[k], wc.shear_force[k], no_moment, nullptr, nullptr, 0.0, 0.0, 0.0, 0.0};
+        LinearContact::History h{wc.normal_force[k], wc.shear_force[k], no_moment, nullptr, nullptr, 0.0, 0.0, 0.0};
         // Few wall contacts: their stored energy is computed on every step (the same code).
         const LinearContact::Outcome o = any_rolling_
             ? LinearContact::evaluate<true>(params[wc.law[k]], kin, h)

@@ -18,6 +18,12 @@
 
 namespace triax::diagnose {
 
+double creep_direct_effect_for(double strain_per_decade) {
+    if (!(strain_per_decade > 0.0)) return kCreepRefA;
+    const double a = kCreepRefA * std::pow(strain_per_decade / kCreepPerDecadeAtRef, 1.0 / kCreepPerDecadeExponent);
+    return std::clamp(a, kCreepDirectEffectMin, kCreepDirectEffectMax);
+}
+
 namespace {
 
 // Silent observer that forwards the diagnosis's cancellation into the DEM run.
@@ -87,6 +93,13 @@ DemForwardModel::DemForwardModel(const protocol::TestScheme& base, const LabData
     // strength rolling resistance brings: docs/diagnosis.md section 6). Without a lab shear
     // curve the envelope is unknown and the scheme's bonds decide.
     lab_cohesion_pa_ = macro.peak_cohesion_pa;
+    // The creep effect starts from the lab's creep per decade at its highest stress level.
+    const CreepMacro* top = nullptr;
+    for (const auto& cm : macro.creep)
+        if (cm.strain_per_decade > 0.0 && (!top || cm.stress_level > top->stress_level ||
+                                           (cm.stress_level == top->stress_level && cm.stage > top->stage)))
+            top = &cm;
+    if (top) creep_seed_a_ = creep_direct_effect_for(top->strain_per_decade);
     bonds_calibrated_ = macro.shear.empty() ? scheme_bond > 0.0 : macro.peak_cohesion_pa > 0.05 * mean_q;
     bond_strength_nominal_pa_ =
         bonds_calibrated_ ? std::min(scheme_bond > 0.0 ? scheme_bond : 100.0e3, bond_strength_max_pa_) : 0.0;
@@ -201,9 +214,10 @@ std::vector<HeldParameter> DemForwardModel::held_fixed() const {
                      "the scheme's crushable grains (" + std::to_string(m.crushing_strength_pa / 1e6) +
                          " MPa) are off in the base: grain breakage is tested as an effect"});
     if (creep_in_lab_) {
-        h.push_back({"slip_beta", "-", scheme_.creep.slip_beta, "the creep law's shape"});
-        h.push_back({"slip_rate_a", "m/s", scheme_.creep.slip_rate_a_m_s,
-                     "the creep law's rate; the creep effect fits its capacity (the slip-hardening length)"});
+        h.push_back({"critical_slip", "m", scheme_.creep.critical_slip_m,
+                     "the creep law's critical slip D_c; the creep effect fits its rate sensitivity a"});
+        h.push_back({"state_exponent_m", "-", scheme_.creep.state_exponent_m, "the creep law's decay t^-m of the creep rate"});
+        h.push_back({"renewed_age", "s", scheme_.creep.renewed_age_s, "the state of a contact renewed by a stage's loading"});
         h.push_back({"bond_corrosion_rate_b1", "1/s", scheme_.creep.bond_corrosion_rate_b1_per_s, "the bonds' stress corrosion rate"});
     }
     return h;
@@ -249,18 +263,11 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
         case Effect::ContactCreepViscosity:
             // Without lab creep curves the mechanism cannot be seen: do not propose it.
             if (!creep_in_lab_) return {};
-            // Time-dependent contact slip, switched on with the creep law's capacity: the
-            // slip-hardening length s_h, how far a contact creeps before it hardens (0 = off,
-            // the base without creep; nominal = the scheme's). The capacity sets how much a
-            // stage creeps; the rate A only brings the same capacity sooner. On the ~200-grain
-            // specimen, 4-h stages (bench/creep_explore gp=1): at S 0.8 A x100 moved 0.0074 to
-            // 0.0104 mm, s_h x3 / x5 gave 0.032 / 0.068 mm, s_h x10 ruptured the stage after
-            // 1.2 h. Linear up to 8x the scheme's, so the fit's line search (off, nominal,
-            // further) spans the stable range and the rupture edge.
-            {
-                const double sh = base_.creep.slip_hardening_length_m;
-                return {{"slip_hardening_length", "m", 0.0, 8.0 * sh, sh, false, true}};
-            }
+            // Rate-and-state creep at the contacts, switched on with its rate sensitivity a
+            // (0 = off, the base without creep): a stage's creep per decade of time grows
+            // with a (docs/creep.md, "Parameters and their reach"); the nominal is read off
+            // the lab's own creep per decade (creep_seed_a_).
+            return {{"direct_effect_a", "-", 0.0, kCreepDirectEffectMax, creep_seed_a_, false, true}};
         default: return {};
     }
 }
@@ -293,11 +300,11 @@ protocol::TestScheme DemForwardModel::scheme_for(const ModelPoint& point, double
                 }
                 break;
             case Effect::ContactCreepViscosity:
-                if (v[0] < 0.0) throw std::invalid_argument("slip_hardening_length must be >= 0");
+                if (v[0] < 0.0) throw std::invalid_argument("direct_effect_a must be >= 0");
                 // 0 is the base without creep (the law off), so base runs seed the fit.
                 s.effects.contact_creep_viscosity = v[0] > 0.0;
                 s.effects.viscosity_scale = 1.0;
-                if (v[0] > 0.0) s.creep.slip_hardening_length_m = v[0];
+                if (v[0] > 0.0) s.creep.direct_effect_a = std::max(kCreepDirectEffectMin, v[0]);
                 break;
             default:
                 throw std::invalid_argument("DEM forward model: '" + std::string(effect_name(e)) +

@@ -49,6 +49,18 @@ struct DiagnoseOptions;
 // 0.6 MPa, x = kCrushabilityMax (0.3 MPa) the weakest offered.
 inline constexpr double kCrushabilityReferencePa = 0.6e6;
 inline constexpr double kCrushabilityMax = 2.0;
+// The creep effect's rate sensitivity a spans 0 (off) to kCreepDirectEffectMax; an "on"
+// value is at least kCreepDirectEffectMin. Its nominal is read off the lab's creep per
+// decade at its highest stress level through the calibration specimen's measured response
+// (docs/creep.md, "Parameters and their reach"): at S 0.8, 24-h stages, median of seeds,
+// creep per decade ~ kCreepPerDecadeAtRef (a / kCreepRefA)^kCreepPerDecadeExponent.
+inline constexpr double kCreepDirectEffectMin = 0.002;
+inline constexpr double kCreepDirectEffectMax = 0.08;
+inline constexpr double kCreepRefA = 0.03;
+inline constexpr double kCreepPerDecadeAtRef = 1.5e-4;  // strain per decade
+inline constexpr double kCreepPerDecadeExponent = 1.6;
+// The nominal a for a lab creep of strain_per_decade at its highest stress level.
+double creep_direct_effect_for(double strain_per_decade);
 // The base grows its packing loose, so that the compaction friction spans dense to loose
 // (bench/base_reach porosity=0.45 compaction=0,1: consolidated porosity 0.370-0.386 and
 // 0.400-0.412; from 0.35 the loose end is not reached).
@@ -136,6 +148,7 @@ private:
     // The bond strength is a base parameter only when the lab shows cohesion (its peak
     // Mohr-Coulomb envelope has an intercept above 5 % of q); otherwise it is held at 0.
     bool bonds_calibrated_ = false;
+    double creep_seed_a_ = kCreepRefA;  // the creep effect's nominal a (creep_direct_effect_for)
     double lab_cohesion_pa_ = 0.0;  // the lab's peak envelope intercept c'
     std::string lab_cohesion_text() const;  // "c' = 6 kPa", for the report's reasons
 };

@@ -36,8 +36,22 @@ void envelope(const std::vector<std::pair<double, double>>& s31, double& phi_deg
 
 }  // namespace
 
+double creep_strain_per_decade(const std::vector<double>& time_s, const std::vector<double>& strain, double t0_s) {
+    double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (std::size_t i = 0; i < time_s.size() && i < strain.size(); ++i) {
+        if (!(time_s[i] >= t0_s) || !std::isfinite(strain[i])) continue;
+        const double x = std::log10(time_s[i]);
+        n += 1; sx += x; sy += strain[i]; sxx += x * x; sxy += x * strain[i];
+    }
+    const double den = n * sxx - sx * sx;
+    return n >= 3 && den > 0.0 ? (n * sxy - sx * sy) / den : 0.0;
+}
+
 LabMacro lab_macro(const LabDataset& lab) {
     LabMacro m;
+    for (const auto& c : lab.curves)
+        if (c.kind == CurveKind::Creep && c.axial_strain.size() == c.time_s.size() && !c.time_s.empty())
+            m.creep.push_back({c.confining_pa, c.stage, c.stress_level, creep_strain_per_decade(c.time_s, c.axial_strain)});
     std::vector<std::pair<double, double>> peaks, lasts;
     for (const auto& c : lab.curves) {
         if (c.kind != CurveKind::Shear || c.deviator_pa.size() < 3 || c.axial_strain.size() != c.deviator_pa.size())

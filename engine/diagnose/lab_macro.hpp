@@ -23,8 +23,23 @@ struct ShearMacro {
     double max_dilatancy_rate = 0.0;   // max of -d eps_v / d eps_a (> 0: dilation)
 };
 
+// A creep stage's creep per decade of time: the least-squares slope of the axial strain
+// against log10 t over the readings from the first minute on (the loading ramp's own
+// readings excluded); at least three readings there, else the stage has none.
+struct CreepMacro {
+    double confining_pa = 0.0;
+    int stage = 0;
+    double stress_level = 0.0;        // S as the lab gave it (0: not given)
+    double strain_per_decade = 0.0;   // [-], compression positive
+};
+
+// Strain per decade of a (time s, strain) creep record from t0_s on; 0 with fewer than
+// three readings there.
+double creep_strain_per_decade(const std::vector<double>& time_s, const std::vector<double>& strain, double t0_s = 60.0);
+
 struct LabMacro {
     std::vector<ShearMacro> shear;     // one per shear curve with deviator readings
+    std::vector<CreepMacro> creep;     // one per creep stage with axial strain readings
     double peak_friction_angle_deg = 0.0;
     double peak_cohesion_pa = 0.0;
     double last_friction_angle_deg = 0.0;  // envelope of the last readings (residual / critical)

@@ -16,9 +16,8 @@ namespace triax {
 
 // Branch-free (the signs of the velocity components are random from particle to
 // particle, so a branch mispredicts often); exactly 1, -1 or 0 (also 0 for NaN), as the
-// conditional form gives. GCC 12 compiles the portable form below into a compare and a
-// branch on v > 0 (perf: the six branch tails per particle were ~8 % of the integration's
-// samples), so on x86 the two compares are mask operations: an ordered
+// conditional form gives. A compiler may turn the portable form below into a compare and
+// a branch on v > 0, so on x86 the two compares are mask operations: an ordered
 // compare gives an all-ones mask or zero, AND 1.0 gives 1.0 or +0.0, and the difference
 // is the same +1, -1 or +0.0 (NaN: both compares false, +0.0).
 inline double sign_of(double v) {

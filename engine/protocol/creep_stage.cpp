@@ -10,10 +10,10 @@
 
 namespace triax::protocol {
 
-creep::RateProcessParams effective_creep_law(const TestScheme& scheme) {
-    creep::RateProcessParams cp = scheme.creep;
+creep::RateStateParams effective_creep_law(const TestScheme& scheme) {
+    creep::RateStateParams cp = scheme.creep;
     const double vs = scheme.effects.contact_creep_viscosity ? scheme.effects.viscosity_scale : 0.0;
-    cp.slip_rate_a_m_s = scheme.creep.slip_rate_a_m_s * vs;
+    cp.critical_slip_m = scheme.creep.critical_slip_m * vs;
     cp.bond_corrosion_rate_b1_per_s =
         scheme.creep.bond_corrosion_rate_b1_per_s * vs *
         (scheme.effects.accelerated_bond_corrosion ? scheme.effects.bond_corrosion_scale : 1.0);
@@ -82,9 +82,9 @@ CreepStageResult MultiStageCreep::run_stage(int k, double q_target) {
     st.duration_s = scheme.loading.stage_durations_s[k];
     st.start_time_s = t_total_;
     const double d_before = z_top0_ - sp_.top_z();
-    // The contacts have aged under the previous load (the consolidation, or the previous
-    // stage); then the loading step: the instantaneous response.
-    law_.age(w_);
+    // The contacts' shear forces before the load: the loading's displacement renews their
+    // state (creep counts from the load step); then the loading step: the instant response.
+    law_.begin_stage(w_, k == 0);
     holder_.hold(sigma1, 500, 200000, &rotation_);
     auto record = [&](double t_stage) {
         const double d = z_top0_ - sp_.top_z();

@@ -1,8 +1,8 @@
 #pragma once
 // Multi-stage creep in physical time on a consolidated specimen (the paper's graded
 // loading, "Scheme of Creep Test"). Each stage k:
-//   1. the contacts age under the previous load (RateProcessCreep::age), then the loading
-//      step holds sigma1 = sigma3 + q_k (CreepHold): the instant reading;
+//   1. the contacts' shear forces become the reference of their renewal
+//      (RateStateCreep::begin_stage), then the loading step holds sigma1 = sigma3 + q_k (CreepHold): the instant reading;
 //   2. the stage's physical time advances in scheduled increments
 //      (creep::creep_time_increments), each split while it would relax more than
 //      creep.max_relaxation_per_increment of the contact shear force at once; after each
@@ -16,7 +16,7 @@
 // rate in physical time) are sampled at the loading step and every fourth increment.
 #include <vector>
 
-#include "engine/creep/rate_process_creep.hpp"
+#include "engine/creep/rate_state_creep.hpp"
 #include "engine/measure/measurement_sphere.hpp"
 #include "engine/protocol/creep_hold.hpp"
 #include "engine/protocol/run_context.hpp"
@@ -39,7 +39,7 @@ private:
     World& w_;
     RunContext& run_;
     const double sigma3_, q_failure_, eps_max_;
-    creep::RateProcessCreep law_;
+    creep::RateStateCreep law_;
     CreepHold holder_;
     // Grain rotation accumulated over the relaxation cycles (rad): divided by the physical
     // time between samples it is the rotation rate in physical time (the DEM spin at an
@@ -52,7 +52,7 @@ private:
 };
 
 // The scheme's creep law with the diagnosis effects applied: the creep effect scales the
-// law's rates (off: no creep), accelerated corrosion scales the bonds' corrosion rate.
-creep::RateProcessParams effective_creep_law(const TestScheme& scheme);
+// law's critical slip D_c and the corrosion rate (off: no creep), accelerated corrosion scales the bonds' corrosion rate.
+creep::RateStateParams effective_creep_law(const TestScheme& scheme);
 
 }  // namespace triax::protocol

@@ -59,13 +59,11 @@ void TestScheme::validate() const {
             "micro.crushing_weibull_modulus", "must be in [1, 50]");
     require(micro.crushing_hardening_ratio >= 0.0 && micro.crushing_hardening_ratio <= 10.0,
             "micro.crushing_hardening_ratio", "must be in [0, 10]");
-    require(creep.slip_rate_a_m_s >= 0.0, "creep.slip_rate_a_m_s", "must be >= 0");
-    require(creep.slip_beta > 0.0, "creep.slip_beta", "must be > 0");
-    require(creep.slip_hardening_length_m > 0.0, "creep.slip_hardening_length_m", "must be > 0");
-    require(creep.capacity_offset > 0.0 && creep.capacity_offset <= 1.0, "creep.capacity_offset", "must be in (0, 1]");
-    require(creep.aging_margin >= 0.0 && creep.aging_margin <= 1.0, "creep.aging_margin", "must be in [0, 1]");
-    require(creep.wear_length_m >= 0.0, "creep.wear_length_m", "must be >= 0");
-    require(creep.wear_max >= 0.0 && creep.wear_max < 1.0, "creep.wear_max", "must be in [0, 1)");
+    require(creep.direct_effect_a >= 1e-4 && creep.direct_effect_a <= 0.1, "creep.direct_effect_a", "must be in [1e-4, 0.1]");
+    require(creep.critical_slip_m >= 0.0 && creep.critical_slip_m <= 1e-3, "creep.critical_slip_m", "must be in [0, 1000] um");
+    require(creep.renewed_age_s >= 1e-3 && creep.renewed_age_s <= 86400.0, "creep.renewed_age_s", "must be in [0.001, 86400] s");
+    require(creep.consolidated_age_s >= 1.0 && creep.consolidated_age_s <= 1e7, "creep.consolidated_age_s", "must be in [1, 1e7] s");
+    require(creep.state_exponent_m >= 0.5 && creep.state_exponent_m <= 1.0, "creep.state_exponent_m", "must be in [0.5, 1]");
     require(creep.bond_corrosion_rate_b1_per_s >= 0.0, "creep.bond_corrosion_rate_b1_per_s", "must be >= 0");
     require(creep.max_relaxation_per_increment > 0.0 && creep.max_relaxation_per_increment <= 1.0,
             "creep.max_relaxation_per_increment", "must be in (0, 1]");

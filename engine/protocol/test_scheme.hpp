@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/creep/rate_process_params.hpp"
+#include "engine/creep/rate_state_params.hpp"
 
 namespace triax::protocol {
 
@@ -94,9 +94,9 @@ struct MicroParameters {
 };
 
 // The creep section of a scheme: the time-dependent contact law (engine/creep/
-// rate_process_creep.hpp: delayed slip with asperity wear, stress corrosion of the bonds;
-// its fields and defaults are the law's own) and the stages' physical-time schedule.
-struct CreepLawParameters : creep::RateProcessParams {
+// rate_state_creep.hpp: rate-and-state friction at the contacts, stress corrosion of the
+// bonds; its fields and defaults are the law's own) and the stages' physical-time schedule.
+struct CreepLawParameters : creep::RateStateParams {
     // Physical-time scheduler.
     double first_increment_s = 1.0;        // first time increment of a creep stage
     double increment_growth = 1.25;        // geometric growth of increments
@@ -135,7 +135,7 @@ struct TestEffects {
     bool accelerated_bond_corrosion = false;       // bonds corrode faster under load (bond degradation)
     double bond_corrosion_scale = 1.0;             // x creep.bond_corrosion_rate_b1_per_s when on
     bool contact_creep_viscosity = true;           // the creep mechanism itself (off = no creep)
-    double viscosity_scale = 1.0;                  // multiplies slip_rate_a and bond_corrosion_rate_b1
+    double viscosity_scale = 1.0;                  // multiplies critical_slip and bond_corrosion_rate_b1
     bool moisture_bonding = true;                  // moisture -> bond strength relation
     bool seating_error = false;                    // bedding: extra axial displacement at start of loading
     double seating_displacement_m = 0.5e-3;

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "engine/diagnose/dem_forward_model.hpp"
+#include "engine/diagnose/lab_macro.hpp"
 #include "engine/diagnose/diagnosis.hpp"
 #include "engine/diagnose/packing_ensemble.hpp"
 #include "engine/diagnose/residuals.hpp"
@@ -47,10 +48,11 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     // Seating strain becomes deformation on the model's own specimen height.
     CHECK(model.specimen_height_m() == Approx(base.specimen.height_m));
     const ParameterSpec creep_spec = model.effect_parameters(Effect::ContactCreepViscosity).front();
-    CHECK(creep_spec.name == "slip_hardening_length");
+    CHECK(creep_spec.name == "direct_effect_a");
     CHECK(creep_spec.lower_is_off);  // 0 = no creep: the base
-    CHECK(creep_spec.nominal == Approx(base.creep.slip_hardening_length_m));
-    CHECK(creep_spec.upper == Approx(8.0 * base.creep.slip_hardening_length_m));
+    // No lab creep per decade to read: the reference a.
+    CHECK(creep_spec.nominal == Approx(kCreepRefA));
+    CHECK(creep_spec.upper == Approx(kCreepDirectEffectMax));
 
     const auto held = model.held_fixed();
     auto held_named = [&](const std::string& n) {
@@ -90,17 +92,17 @@ TEST_CASE("DEM forward model: a base without the catalog's effects, wide priors,
     CHECK(s.specimen.target_porosity == Approx(kDiagnosisGenerationPorosity));
     CHECK(s.specimen.compaction_friction_ratio == Approx(0.44));
 
-    // The creep effect is the creep law switched on with its capacity s_h; 0 is the base
-    // without creep, so the base's runs are the effect's runs at 0.
-    ModelPoint creep{p.base, {{Effect::ContactCreepViscosity, {6e-6}}}};
+    // The creep effect is the creep law switched on with its rate sensitivity a; 0 is the
+    // base without creep, so the base's runs are the effect's runs at 0.
+    ModelPoint creep{p.base, {{Effect::ContactCreepViscosity, {0.025}}}};
     const TestScheme sc = model.scheme_for(creep, 200e3);
     CHECK(sc.effects.contact_creep_viscosity);
     CHECK(sc.effects.viscosity_scale == 1.0);  // the scheme's rate
-    CHECK(sc.creep.slip_hardening_length_m == Approx(6e-6));
+    CHECK(sc.creep.direct_effect_a == Approx(0.025));
     const TestScheme off = model.scheme_for(ModelPoint{p.base, {{Effect::ContactCreepViscosity, {0.0}}}}, 200e3);
     CHECK_FALSE(off.effects.contact_creep_viscosity);
-    CHECK_THROWS_WITH(model.scheme_for(ModelPoint{p.base, {{Effect::ContactCreepViscosity, {-1e-6}}}}, 200e3),
-                      Catch::Contains("slip_hardening_length"));
+    CHECK_THROWS_WITH(model.scheme_for(ModelPoint{p.base, {{Effect::ContactCreepViscosity, {-0.01}}}}, 200e3),
+                      Catch::Contains("direct_effect_a"));
 
     ModelPoint bad{{1.0, 0.5}, {}};
     CHECK_THROWS_WITH(model.scheme_for(bad, 100e3), Catch::Contains("base parameters"));
@@ -286,4 +288,17 @@ TEST_CASE("DEM forward model: one reduced shear run, timed", "[diagnose][dem][.t
         text += std::to_string(sh.axial_strain[i]) + " " + std::to_string(sh.deviator_pa[i]) + " " +
                 std::to_string(sh.volumetric_strain[i]) + "\n";
     WARN(text);
+}
+
+TEST_CASE("DEM forward model: the creep effect starts from the lab's creep per decade", "[diagnose][dem]") {
+    // The lab's per-decade slope is read from the first minute on, by least squares in log t.
+    const std::vector<double> t{30.0, 60.0, 600.0, 6000.0, 60000.0};
+    const std::vector<double> e{0.0005, 0.001, 0.002, 0.003, 0.004};
+    CHECK(creep_strain_per_decade(t, e) == Approx(0.001));
+    CHECK(creep_strain_per_decade({60.0, 600.0}, {0.0, 0.001}) == 0.0);  // two readings: none
+    // Monotone in the lab's creep, the reference a at the reference creep, within its range.
+    CHECK(creep_direct_effect_for(kCreepPerDecadeAtRef) == Approx(kCreepRefA));
+    CHECK(creep_direct_effect_for(2.0 * kCreepPerDecadeAtRef) > kCreepRefA);
+    CHECK(creep_direct_effect_for(1e-9) == Approx(kCreepDirectEffectMin));
+    CHECK(creep_direct_effect_for(1.0) == Approx(kCreepDirectEffectMax));
 }

@@ -1,15 +1,15 @@
-// The time-dependent contact mechanism on a single contact held in place: delayed slip
-// relaxes the shear spring and converges; the update does not depend on how a period is
-// split; an aged contact does not creep until its mobilisation rises; asperity wear
-// follows the slip and lowers the Coulomb limit; bond corrosion has a threshold;
-// dissipation is booked as creep energy.
+// The time-dependent contact mechanism on a single contact held in place (docs/creep.md,
+// section 1): rate-and-state slip against the closed form, logarithmic in time for m = 1 and
+// a power of time for m < 1, steeply faster with mobilisation, renewed by a load step,
+// unloading its spring (energy booked as creep) and independent of how a period is split;
+// bond corrosion has a threshold, accelerates to rupture, and holds the contact.
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <vector>
 
 #include "engine/core/world.hpp"
-#include "engine/creep/rate_process_creep.hpp"
+#include "engine/creep/rate_state_creep.hpp"
 
 using namespace triax;
 
@@ -29,21 +29,139 @@ World two_spheres() {
     w.cycle(1);
     return w;
 }
+
+// The contact at mobilisation f, its state renewed (as after a later stage's loading).
+World loaded_pair(const creep::RateStateCreep& law, double f) {
+    World w = two_spheres();
+    law.begin_stage(w, false);
+    w.contacts().shear_force[0] = Vec3(0, f * 0.4 * w.contacts().normal_force[0], 0);
+    return w;
+}
 }  // namespace
 
-// A fast law on one contact (rates of nm/s, not the paper's calibration), no aging, no wear,
-// no corrosion: each test switches on what it checks.
-static creep::RateProcessParams base() {
-    creep::RateProcessParams p;
-    p.slip_rate_a_m_s = 3e-9;
-    p.slip_beta = 6.0;
-    p.slip_hardening_length_m = 1e-5;
-    p.capacity_offset = 0.05;
-    p.aging_margin = 0.0;
-    p.wear_length_m = 0.0;
-    p.wear_max = 0.0;
+// a = 0.01, m = 1, t_r = 60 s; D_c = 1e-12 m keeps the slip far below a Fn / ks = 2e-8 m, so
+// the spring barely unloads and the slip is the rate-and-state slip at fixed load. No
+// corrosion: each test switches on what it checks.
+static creep::RateStateParams base() {
+    creep::RateStateParams p;
+    p.direct_effect_a = 0.01;
+    p.critical_slip_m = 1e-12;
+    p.renewed_age_s = 60.0;
+    p.state_exponent_m = 1.0;
     p.bond_corrosion_rate_b1_per_s = 0.0;
     return p;
+}
+
+static double shear_of(const World& w) { return w.contacts().shear_force[0].norm(); }
+
+// Slip of the contact so far: the shear force it lost over ks.
+static double slip_of(const World& w, double fs0) { return (fs0 - shear_of(w)) / 5e5; }
+
+TEST_CASE("rate-and-state slip at a held load is logarithmic in time (m = 1)", "[protocol][creep]") {
+    const creep::RateStateCreep law(base());
+    World w = loaded_pair(law, 0.9);
+    const double fs0 = shear_of(w);
+    // Closed form at fixed f: v = (D_c / theta) x, theta = t_r + (1 - x) t, so
+    // s(t) = D_c x ln(1 + (1 - x) t / t_r) / (1 - x), x = exp(-mu (1 - f) / a).
+    const double x = std::exp(-0.4 * 0.1 / 0.01);
+    std::vector<double> per_decade;
+    double t = 0.0, s_prev = 0.0;
+    for (double t_end : {600.0, 6000.0, 60000.0, 600000.0}) {
+        law.advance(w, t_end - t);
+        t = t_end;
+        const double s = slip_of(w, fs0);
+        CHECK(s == Approx(1e-12 * x * std::log1p((1 - x) * t / 60.0) / (1 - x)).epsilon(0.01));
+        per_decade.push_back(s - s_prev);
+        s_prev = s;
+    }
+    // Equal slip per decade once t >> t_r: 3 decades, within 5 %.
+    CHECK(per_decade[2] == Approx(per_decade[1]).epsilon(0.05));
+    CHECK(per_decade[3] == Approx(per_decade[1]).epsilon(0.05));
+    // The energy booked is the spring energy released.
+    const double f1 = shear_of(w);
+    CHECK(w.energy().creep == Approx((fs0 * fs0 - f1 * f1) / (2 * 5e5)).epsilon(1e-6));
+}
+
+TEST_CASE("with m < 1 the creep rate falls as t^-m: slip per decade grows by 10^(1-m)", "[protocol][creep]") {
+    auto p = base();
+    p.state_exponent_m = 0.8;
+    const creep::RateStateCreep law(p);
+    World w = loaded_pair(law, 0.7);  // x = 3e-6: the state ages at dtheta/dt = 1
+    const double fs0 = shear_of(w);
+    std::vector<double> at;
+    double t = 0.0;
+    for (double t_end : {6000.0, 60000.0, 600000.0}) {
+        law.advance(w, t_end - t);
+        t = t_end;
+        at.push_back(slip_of(w, fs0));
+    }
+    CHECK((at[2] - at[1]) / (at[1] - at[0]) == Approx(std::pow(10.0, 0.2)).epsilon(0.03));
+}
+
+TEST_CASE("creep slip rises steeply with the contact's mobilisation", "[protocol][creep]") {
+    const creep::RateStateCreep law(base());
+    auto slip_at = [&](double f) {
+        World w = loaded_pair(law, f);
+        const double fs0 = shear_of(w);
+        law.advance(w, 3600.0);
+        return slip_of(w, fs0);
+    };
+    const double low = slip_at(0.7), high = slip_at(0.9);
+    REQUIRE(low > 0.0);
+    // exp(mu (0.9 - 0.7) / a) = exp(8): both states age at dtheta/dt ~ 1.
+    CHECK(high / low == Approx(std::exp(8.0)).epsilon(0.03));
+}
+
+TEST_CASE("a load step renews the contact's state: creep restarts from the load", "[protocol][creep]") {
+    auto p = base();
+    p.critical_slip_m = 1e-9;  // the load step below moves the contact 0.16 um = 160 D_c
+    const creep::RateStateCreep law(p);
+    World w = loaded_pair(law, 0.8);
+    law.advance(w, 86400.0);  // a day at S: the state is a day old
+    const double fs_day = shear_of(w);
+    law.advance(w, 3600.0);
+    const double aged_hour = (fs_day - shear_of(w)) / 5e5;
+    // A fresh contact at the same load creeps far more in its first hour.
+    World fresh = loaded_pair(law, 0.8);
+    const double fs0 = shear_of(fresh);
+    law.advance(fresh, 3600.0);
+    const double fresh_hour = slip_of(fresh, fs0);
+    CHECK(fresh_hour > 5.0 * aged_hour);
+    // The next stage's load (f 0.8 -> 0.9 at the same Fn) renews the aged contact: its first
+    // hour is that of a fresh contact at 0.9.
+    law.begin_stage(w, false);
+    w.contacts().shear_force[0] = Vec3(0, 0.9 * 0.4 * w.contacts().normal_force[0], 0);
+    const double fs_load = shear_of(w);
+    law.advance(w, 3600.0);
+    World fresh9 = loaded_pair(law, 0.9);
+    const double fs9 = shear_of(fresh9);
+    law.advance(fresh9, 3600.0);
+    CHECK((fs_load - shear_of(w)) / 5e5 == Approx(slip_of(fresh9, fs9)).epsilon(0.01));
+}
+
+TEST_CASE("the slip unloads the spring, and does not depend on how the period is split", "[protocol][creep]") {
+    // D_c large: the slip is limited by the spring, s -> (a Fn / ks) ln(1 + ...).
+    auto p = base();
+    p.critical_slip_m = 1e-6;
+    const creep::RateStateCreep law(p);
+    auto slip_after = [&](int pieces) {
+        World w = loaded_pair(law, 0.95);
+        const double fs0 = shear_of(w);
+        for (int k = 0; k < pieces; ++k) law.advance(w, 6000.0 / pieces);
+        return slip_of(w, fs0);
+    };
+    const double one = slip_after(1), many = slip_after(100);
+    REQUIRE(one > 0.0);
+    CHECK(one == Approx(many).epsilon(0.05));
+    // Unloaded by the slip, the contact creeps far less than at its first load: a few
+    // a Fn / ks, where the unrelaxed slip would be D_c ln(1 + 100) = 4.6 um.
+    CHECK(one < 10.0 * 0.01 * 1.0 / 5e5);
+    // And a trial is a dry run.
+    World w = loaded_pair(law, 0.95);
+    const double fs0 = shear_of(w);
+    const auto t = law.trial(w, 60.0);
+    CHECK(t.relaxation > 0.0);
+    CHECK(shear_of(w) == fs0);
 }
 
 // Two touching spheres (Fn = 1 N, r = 1 mm) held in place, bonded with ss = 1 N and
@@ -71,100 +189,6 @@ static World held_bonded_pair(double fs_n, double bond_rolling_friction = 0.0) {
     return w;
 }
 
-static double shear_of(const World& w) { return w.contacts().shear_force[0].norm(); }
-
-TEST_CASE("delayed slip relaxes the shear force and converges", "[protocol][creep]") {
-    World w = two_spheres();
-    auto& c = w.contacts();
-    REQUIRE(c.active[0]);
-    const double fn = c.normal_force[0];
-    c.shear_force[0] = Vec3(0, 0.6 * 0.4 * fn, 0);  // f = 0.6
-    creep::RateProcessCreep law(base());
-    std::vector<double> fs;
-    for (int k = 0; k < 40; ++k) {
-        law.advance(w, 60.0);
-        fs.push_back(shear_of(w));
-    }
-    for (std::size_t k = 1; k < fs.size(); ++k) CHECK(fs[k] <= fs[k - 1]);
-    CHECK(fs.back() < 0.6 * 0.4 * fn);
-    // Converging: the last ten minutes relax far less than the first ten.
-    CHECK((fs[29] - fs[39]) < 0.2 * (0.6 * 0.4 * fn - fs[9]));
-    CHECK(w.energy().creep > 0.0);
-    CHECK(c.creep_slip[0] > 0.0);
-    // The energy booked is the spring energy released.
-    const double f0 = 0.6 * 0.4 * fn;
-    CHECK(w.energy().creep == Approx((f0 * f0 - fs.back() * fs.back()) / (2 * 5e5)).epsilon(1e-9));
-}
-
-TEST_CASE("at fixed mobilisation the slip does not depend on how the period is split", "[protocol][creep]") {
-    // Slip small next to the spring's elastic displacement: f barely changes, so the
-    // exact exponential update must give the same slip for one step or a hundred.
-    auto slip_after = [](int pieces) {
-        World w = two_spheres();
-        w.contacts().shear_force[0] = Vec3(0, 0.5 * 0.4 * w.contacts().normal_force[0], 0);
-        auto p = base();
-        p.slip_hardening_length_m = 1e-9;
-        creep::RateProcessCreep law(p);
-        for (int k = 0; k < pieces; ++k) law.advance(w, 600.0 / pieces);
-        return w.contacts().creep_slip[0];
-    };
-    const double one = slip_after(1), many = slip_after(100);
-    REQUIRE(one > 0.0);
-    CHECK(one == Approx(many).epsilon(0.02));
-    // And a trial is a dry run.
-    World w = two_spheres();
-    w.contacts().shear_force[0] = Vec3(0, 0.2, 0);
-    creep::RateProcessCreep law(base());
-    const auto t = law.trial(w, 60.0);
-    CHECK(t.relaxation > 0.0);
-    CHECK(shear_of(w) == 0.2);
-    CHECK(w.contacts().creep_slip[0] == 0.0);
-}
-
-TEST_CASE("an aged contact creeps only when its mobilisation rises", "[protocol][creep]") {
-    World w = two_spheres();
-    auto& c = w.contacts();
-    const double fn = c.normal_force[0];
-    c.shear_force[0] = Vec3(0, 0.5 * 0.4 * fn, 0);
-    creep::RateProcessCreep law(base());
-    law.age(w);
-    CHECK(c.creep_slip[0] == Approx(law.equilibrium_slip(0.5)));
-    law.advance(w, 3600.0);
-    CHECK(shear_of(w) == Approx(0.5 * 0.4 * fn).epsilon(1e-12));  // no creep at the aged load
-    c.shear_force[0] = Vec3(0, 0.7 * 0.4 * fn, 0);                 // the next stage's load
-    law.advance(w, 3600.0);
-    CHECK(shear_of(w) < 0.7 * 0.4 * fn);
-}
-
-TEST_CASE("asperity wear follows the creep slip and lowers the Coulomb limit", "[protocol][creep]") {
-    auto p = base();
-    p.wear_length_m = 2e-6;
-    p.wear_max = 0.5;
-    World w = two_spheres();
-    auto& c = w.contacts();
-    c.shear_force[0] = Vec3(0, 0.5 * 0.4 * c.normal_force[0], 0);
-    creep::RateProcessCreep law(p);
-    const auto s = law.advance(w, 600.0);
-    const double slip = c.creep_slip[0];
-    REQUIRE(slip > 0.0);
-    const double wear = c.asperity_wear[0];
-    CHECK(wear == Approx(0.5 * (1 - std::exp(-slip / 2e-6))));
-    CHECK(s.mean_asperity_wear == Approx(wear));
-    // The engine's slider now holds only mu (1 - wear) Fn: push the contact further along
-    // its shear force (the force on j opposes j's motion).
-    w.particles().velocity[1] = Vec3(0, -1e-2, 0);
-    w.cycle(1000);
-    CHECK(shear_of(w) == Approx(0.4 * (1 - wear) * c.normal_force[0]).epsilon(1e-6));
-    // No wear without slip.
-    World q = two_spheres();
-    q.contacts().shear_force[0] = Vec3(0, 0.1, 0);
-    auto p0 = p;
-    p0.slip_rate_a_m_s = 0.0;
-    creep::RateProcessCreep still(p0);
-    still.advance(q, 3600.0);
-    CHECK(q.contacts().asperity_wear[0] == 0.0);
-}
-
 TEST_CASE("bond corrosion grows only above its load threshold", "[protocol][creep]") {
     for (double rho : {0.5, 0.95}) {
         World w = two_spheres();
@@ -174,10 +198,10 @@ TEST_CASE("bond corrosion grows only above its load threshold", "[protocol][cree
         c.bond_normal_strength[0] = 10.0;
         c.shear_force[0] = Vec3(0, rho * 10.0, 0);
         auto p = base();
-        p.slip_rate_a_m_s = 0.0;
+        p.critical_slip_m = 0.0;
         p.bond_corrosion_rate_b1_per_s = 1e-6;
         p.bond_corrosion_threshold = 0.9;
-        creep::RateProcessCreep law(p);
+        creep::RateStateCreep law(p);
         const auto s = law.advance(w, 3600.0);
         if (rho < 0.9) CHECK(s.mean_damage == 0.0);
         else CHECK(s.mean_damage > 0.0);
@@ -188,23 +212,22 @@ TEST_CASE("bond corrosion grows only above its load threshold", "[protocol][cree
 // corrosion"): it is driven by the utilisation of the bond's present strength,
 // rho = |Fs| / (ss (1 - D) + mu_b Fn), so a loaded bond corrodes ever faster until rho
 // reaches 1 and the DEM breaks it; the integration does not depend on the increments;
-// the bond holds its contact (no delayed slip while it is intact).
+// the bond holds its contact (no creep slip while it is intact).
 TEST_CASE("a Mohr-Coulomb bond corrodes ever faster until it breaks, whatever the increments", "[protocol][creep]") {
     // Strength 1.0 + 0.4 x 1 = 1.4 N: rho = 0.857.
     auto bonded_pair = [] { return held_bonded_pair(1.2); };
-    auto p = base();  // delayed slip on: a bonded contact must not use it
+    auto p = base();  // contact creep on: a bonded contact must not use it
     p.bond_corrosion_rate_b1_per_s = 1e-9;
     p.bond_corrosion_b2 = 10.0;
     p.bond_corrosion_threshold = 0.8;
-    creep::RateProcessCreep law(p);
+    creep::RateStateCreep law(p);
     World one = bonded_pair(), many = bonded_pair();
     law.advance(one, 3600.0);
     for (int k = 0; k < 100; ++k) law.advance(many, 36.0);
     const double d1 = one.contacts().damage[0];
     CHECK(d1 > 0.0);
     CHECK(d1 == Approx(many.contacts().damage[0]).epsilon(0.02));
-    CHECK(one.contacts().creep_slip[0] == 0.0);
-    CHECK(one.contacts().shear_force[0].norm() == 1.2);
+    CHECK(one.contacts().shear_force[0].norm() == 1.2);  // no creep slip
     // Accelerating: the second hour corrodes more than the first.
     law.advance(one, 3600.0);
     CHECK(one.contacts().damage[0] - d1 > d1);
@@ -244,7 +267,7 @@ TEST_CASE("a bond whose cement neck is loaded near its limit corrodes; a lightly
     p.bond_corrosion_rate_b1_per_s = 1e-9;
     p.bond_corrosion_b2 = 10.0;
     p.bond_corrosion_threshold = 0.8;
-    creep::RateProcessCreep law(p);
+    creep::RateStateCreep law(p);
     World near = necked_pair(0.85), light = necked_pair(0.5), cracked = necked_pair(0.85);
     cracked.contacts().neck_cracked[0] = 1;
     law.advance(near, 600.0);
@@ -255,5 +278,28 @@ TEST_CASE("a bond whose cement neck is loaded near its limit corrodes; a lightly
     CHECK(near.contacts().damage[0] < 0.1);
     CHECK(light.contacts().damage[0] == 0.0);
     CHECK(cracked.contacts().damage[0] == 0.0);
-    CHECK(near.contacts().creep_slip[0] == 0.0);  // a necked bond holds its contact: no delayed slip
+    CHECK(near.contacts().shear_force[0].norm() == 0.2);  // a necked bond holds its contact: no creep slip
+}
+
+TEST_CASE("before the first stage a contact of the consolidated specimen has the consolidation's age", "[protocol][creep]") {
+    auto p = base();
+    p.consolidated_age_s = 3600.0;
+    const creep::RateStateCreep law(p);
+    World first = two_spheres();
+    law.begin_stage(first, true);
+    CHECK(first.contacts().contact_age[0] == 3600.0);
+    // Loaded to f 0.8 without moving it by D_c (the first stage's small load), it keeps that
+    // age and creeps in its first minute far less than a contact the loading renewed.
+    first.contacts().shear_force[0] = Vec3(0, 0.8 * 0.4 * first.contacts().normal_force[0], 0);
+    first.contacts().creep_reference_shear[0] = first.contacts().shear_force[0].norm();
+    const double fs0 = shear_of(first);
+    law.advance(first, 60.0);
+    World renewed = loaded_pair(law, 0.8);
+    const double fs1 = shear_of(renewed);
+    law.advance(renewed, 60.0);
+    CHECK(slip_of(renewed, fs1) > 10.0 * slip_of(first, fs0));
+    // Before a later stage a contact without a state is young.
+    World later = two_spheres();
+    law.begin_stage(later, false);
+    CHECK(later.contacts().contact_age[0] == p.renewed_age_s);
 }

@@ -77,7 +77,7 @@ TEST_CASE("the final model's schemes are the calibrated DEM model, one per lab c
     report.parameters = {param("contact_normal_modulus", 1.5e8), param("friction", 0.6), param("bond_strength", 2e4),
                          param("compaction_friction_ratio", 0.4), param("rolling_friction", 0.15),
                          param("grain_crushability", 0.5), param("extra_bond_damage_rate", 0.0),
-                         param("slip_hardening_length", 2e-6), param("seating_strain", 0.004),
+                         param("direct_effect_a", 0.02), param("seating_strain", 0.004),
                          param("membrane_stiffness", 5e4)};
     const json out = model_schemes_json(scheme, lab, options, report);
     REQUIRE(out.size() == 2);
@@ -107,7 +107,7 @@ TEST_CASE("the final model's schemes are the calibrated DEM model, one per lab c
         CHECK(s["micro"]["crushing_strength_MPa"].get<double>() == Approx(0.6 / 0.5));
         CHECK(s["effects"]["accelerated_bond_corrosion"] == false);
         CHECK(s["effects"]["contact_creep_viscosity"] == true);
-        CHECK(s["creep"]["slip_hardening_length_um"].get<double>() == Approx(2.0));
+        CHECK(s["creep"]["direct_effect_a"].get<double>() == Approx(0.02));
         // The artefacts through the protocol: strain + s at the platen, q + K_m eps_a.
         CHECK(s["effects"]["seating_error"] == true);
         CHECK(s["effects"]["seating_displacement_mm"].get<double>() == Approx(0.004 * s["specimen"]["height_mm"].get<double>()));

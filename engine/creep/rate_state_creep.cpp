@@ -1,4 +1,4 @@
-#include "engine/creep/rate_process_creep.hpp"
+#include "engine/creep/rate_state_creep.hpp"
 
 #include "engine/contact/bond_shear_strength.hpp"
 
@@ -7,25 +7,15 @@
 
 namespace triax::creep {
 
-RateProcessCreep::RateProcessCreep(const RateProcessParams& p, int soil_group) : p_(p), soil_group_(soil_group) {
-    if (!(p.slip_rate_a_m_s >= 0.0)) throw InputError("creep.slip_rate_a_m_s: must be >= 0");
-    if (!(p.slip_hardening_length_m > 0.0)) throw InputError("creep.slip_hardening_length_m: must be > 0");
-    if (!(p.capacity_offset > 0.0)) throw InputError("creep.capacity_offset: must be > 0");
-    if (!(p.wear_length_m >= 0.0)) throw InputError("creep.wear_length_m: must be >= 0");
-    if (!(p.wear_max >= 0.0 && p.wear_max < 1.0)) throw InputError("creep.wear_max: must be in [0, 1)");
-    if (!(p.aging_margin >= 0.0 && p.aging_margin <= 1.0)) throw InputError("creep.aging_margin: must be in [0, 1]");
+RateStateCreep::RateStateCreep(const RateStateParams& p, int soil_group) : p_(p), soil_group_(soil_group) {
+    if (!(p.direct_effect_a > 0.0)) throw InputError("creep.direct_effect_a: must be > 0");
+    if (!(p.critical_slip_m >= 0.0)) throw InputError("creep.critical_slip_m: must be >= 0");
+    if (!(p.renewed_age_s > 0.0)) throw InputError("creep.renewed_age_s: must be > 0");
+    if (!(p.consolidated_age_s > 0.0)) throw InputError("creep.consolidated_age_s: must be > 0");
+    if (!(p.state_exponent_m > 0.0 && p.state_exponent_m <= 1.0)) throw InputError("creep.state_exponent_m: must be in (0, 1]");
 }
 
 namespace {
-// Mobilised friction of a compressive frictional contact, or -1 when it has none.
-double mobilisation(const ContactStore& c, const ContactLaw& law, std::size_t k) {
-    const double fn = c.normal_force[k];
-    const double fs = c.shear_force[k].norm();
-    const double mu = law.friction * (1.0 - c.asperity_wear[k]);
-    if (!(fn > 0.0) || !(mu > 0.0) || !(law.ks > 0.0)) return -1.0;
-    return std::min(1.0, fs / (mu * fn));
-}
-
 // Utilisation of a bond's present strength: the larger of tension over the corroded
 // tensile strength and shear over the corroded shear strength (bond_shear_strength.hpp:
 // ss keep + mu_b Fn, less the part of mu_b above the grains' mu that the damage took;
@@ -39,66 +29,94 @@ double bond_utilisation(double fn, double fs, double tn, double ss, double mu_b,
 }
 }  // namespace
 
-void RateProcessCreep::age(World& world) const {
+void RateStateCreep::begin_stage(World& world, bool first_stage) const {
+    const double unaged = first_stage ? p_.consolidated_age_s : p_.renewed_age_s;
     auto& c = world.contacts();
     const auto& grp = world.particles().group;
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k] || grp[c.i[k]] != soil_group_ || grp[c.j[k]] != soil_group_) continue;
-        const double f = mobilisation(c, world.contact_law_of(k), k);
-        if (f > 0.0) c.creep_slip[k] = std::max(c.creep_slip[k], equilibrium_slip(std::min(1.0, f + p_.aging_margin)));
+        c.creep_reference_shear[k] = c.shear_force[k].norm();
+        c.contact_age[k] = c.contact_age[k] > 0.0 ? std::max(c.contact_age[k], p_.renewed_age_s) : unaged;
     }
 }
 
-CreepUpdateSummary RateProcessCreep::trial(const World& world, double dt) const {
+double RateStateCreep::aging_rate(double theta_s, double f, double mu) const {
+    // 1 - v theta / D_c, with v theta / D_c = x (theta / t_r)^(1 - m).
+    const double x = std::exp(-mu * (1.0 - f) / p_.direct_effect_a);
+    return 1.0 - x * std::pow(theta_s / p_.renewed_age_s, 1.0 - p_.state_exponent_m);
+}
+
+double RateStateCreep::slip_over(double dt, double theta, double f, double fn, double mu, double ks) const {
+    if (!(p_.critical_slip_m > 0.0) || !(dt > 0.0) || !(fn > 0.0) || !(ks > 0.0)) return 0.0;
+    const double a = p_.direct_effect_a, m = p_.state_exponent_m, t_r = p_.renewed_age_s;
+    const double x = std::exp(-mu * (1.0 - f) / a);
+    // I = int_0^dt (t_r / theta(t'))^m dt' with theta(t') = theta + g t', g the aging rate
+    // at the increment's start (0 for a contact at its steady state or beyond).
+    const double g = std::max(0.0, aging_rate(theta, f, mu));
+    double integral;
+    if (g * dt < 1e-9 * theta) {
+        integral = std::pow(t_r / theta, m) * dt;
+    } else if (std::abs(1.0 - m) < 1e-9) {
+        integral = t_r / g * std::log1p(g * dt / theta);
+    } else {
+        const double e = 1.0 - m;
+        integral = std::pow(t_r, m) * (std::pow(theta + g * dt, e) - std::pow(theta, e)) / (e * g);
+    }
+    // ds/dt = (D_c / t_r) x exp(-ks s / (a Fn)) (t_r / theta)^m: the spring unloads as it slips.
+    const double scale = a * fn / ks;  // m: the slip that lowers f by a / mu
+    return scale * std::log1p(p_.critical_slip_m / t_r * x * integral / scale);
+}
+
+CreepUpdateSummary RateStateCreep::trial(const World& world, double dt) const {
     return update<false>(world, dt);
 }
 
-CreepUpdateSummary RateProcessCreep::advance(World& world, double dt) const {
+CreepUpdateSummary RateStateCreep::advance(World& world, double dt) const {
     auto out = update<true>(world, dt);
     world.energy().creep += out.dissipated_j;
     return out;
 }
 
 template <bool kApply>
-CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, const World&> world, double dt) const {
+CreepUpdateSummary RateStateCreep::update(std::conditional_t<kApply, World&, const World&> world, double dt) const {
     if (!(dt >= 0.0)) throw InputError("creep advance: dt must be >= 0 s");
     CreepUpdateSummary out;
     auto& c = world.contacts();
     const auto& grp = world.particles().group;
     long bonded = 0, frictional = 0;
-    double wear_sum = 0.0, damage_sum = 0.0, relaxed = 0.0, carried = 0.0;
+    double age_sum = 0.0, damage_sum = 0.0, relaxed = 0.0, carried = 0.0;
     // Serial loop in slot order: deterministic, and cheap next to the relaxation cycles.
     for (std::size_t k = 0; k < c.size(); ++k) {
         if (!c.active[k]) continue;
         if (grp[c.i[k]] != soil_group_ || grp[c.j[k]] != soil_group_) continue;
         const ContactLaw& law = world.contact_law_of(k);
         const double fs = c.shear_force[k].norm();
-        // A Mohr-Coulomb bond holds its contact: no slider, so no delayed slip while it
+        // A Mohr-Coulomb bond holds its contact: no slider, so no creep slip while it
         // is intact; its time dependence is the bond's corrosion.
         const bool coulomb_bond = (law.bond_friction > 0.0 || law.bond_rolling_friction > 0.0) && c.bonded[k];
-        const double f = coulomb_bond ? -1.0 : mobilisation(c, law, k);
-        if (f > 0.0) {
+        const double fn = c.normal_force[k];
+        if (!coulomb_bond && fn > 0.0 && law.friction > 0.0 && law.ks > 0.0) {
             ++frictional;
             carried += fs;
-            const double s = c.creep_slip[k];
-            const double s_eq = equilibrium_slip(f);
-            double delta = 0.0;
-            if (p_.slip_rate_a_m_s > 0.0 && s < s_eq) {
-                const double rate0 = p_.slip_rate_a_m_s * std::sinh(p_.slip_beta * f);
-                delta = std::min((s_eq - s) * -std::expm1(-rate0 * dt / s_eq), fs / law.ks);
-            }
+            // Renewal by the shear displacement taken since the last update (slip law); a
+            // contact with no state yet is as young as a renewed one.
+            const double moved = std::abs(fs - c.creep_reference_shear[k]) / law.ks;
+            const double renewal = p_.critical_slip_m > 0.0 ? std::exp(-moved / p_.critical_slip_m) : 1.0;
+            const double theta0 = std::max(p_.renewed_age_s, c.contact_age[k] * renewal);
+            const double mu = law.friction;
+            const double f = std::min(1.0, fs / (mu * fn));
+            const double delta = std::min(slip_over(dt, theta0, f, fn, mu, law.ks), fs / law.ks);
+            // Aging at the increment's start mobilisation, down to the steady state at most.
+            const double g = aging_rate(theta0, f, mu);
+            const double theta1 = std::max(p_.renewed_age_s, theta0 + dt * g);
             relaxed += law.ks * delta;
-            // Asperity wear: the creep slip grinds the asperities (slip weakening).
-            double wear = c.asperity_wear[k];
-            const double s_w = p_.wear_length_m;
-            if (s_w > 0.0 && delta > 0.0) wear = p_.wear_max - (p_.wear_max - wear) * std::exp(-delta / s_w);
-            wear_sum += wear;
+            age_sum += theta1;
             if constexpr (kApply) {
                 const double fs_new = fs - law.ks * delta;
                 out.dissipated_j += 0.5 * (fs * fs - fs_new * fs_new) / law.ks;
                 if (fs > 0.0) c.shear_force[k] *= fs_new / fs;
-                c.creep_slip[k] = s + delta;
-                c.asperity_wear[k] = wear;
+                c.contact_age[k] = theta1;
+                c.creep_reference_shear[k] = fs_new;
             }
             out.max_slip_m = std::max(out.max_slip_m, delta);
         }
@@ -160,11 +178,11 @@ CreepUpdateSummary RateProcessCreep::update(std::conditional_t<kApply, World&, c
     }
     out.relaxation = carried > 0.0 ? relaxed / carried : 0.0;
     out.mean_damage = bonded ? damage_sum / bonded : 0.0;
-    out.mean_asperity_wear = frictional ? wear_sum / frictional : 0.0;
+    out.mean_age_s = frictional ? age_sum / frictional : 0.0;
     return out;
 }
 
-template CreepUpdateSummary RateProcessCreep::update<true>(World&, double) const;
-template CreepUpdateSummary RateProcessCreep::update<false>(const World&, double) const;
+template CreepUpdateSummary RateStateCreep::update<true>(World&, double) const;
+template CreepUpdateSummary RateStateCreep::update<false>(const World&, double) const;
 
 }  // namespace triax::creep
