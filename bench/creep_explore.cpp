@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bench/reduced_creep_args.hpp"
+#include "engine/diagnose/lab_macro.hpp"
 #include "engine/protocol/triaxial_test.hpp"
 
 using namespace triax::protocol;
@@ -65,14 +66,13 @@ int main(int argc, char** argv) {
         // against log10 t over [t0, t1]: all (1 min-end, the diagnosis's lab figure, lab_macro.hpp);
         // early (1 min-1 h) and late (1 h-end) show whether the
         // creep is logarithmic in time (equal slopes).
+        std::vector<double> times, strains_pct;
+        for (const auto& p : st.translated) {
+            times.push_back(p.time_s);
+            strains_pct.push_back(100.0 * p.axial_strain);
+        }
         auto per_decade = [&](double t0, double t1) {
-            double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
-            for (const auto& p : st.translated)
-                if (p.time_s >= t0 - 1e-6 && p.time_s <= t1 + 1e-6 && p.time_s > 0.0) {
-                    const double x = std::log10(p.time_s), y = 100.0 * p.axial_strain;
-                    n += 1; sx += x; sy += y; sxx += x * x; sxy += x * y;
-                }
-            return n >= 3 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : 0.0;
+            return triax::diagnose::creep_strain_per_decade(times, strains_pct, t0, t1 + 1e-6);
         };
         std::printf("  per-decade %% all %.4f early %.4f late %.4f", per_decade(60.0, st.duration_s),
                     per_decade(60.0, 3600.0), per_decade(3600.0, st.duration_s));

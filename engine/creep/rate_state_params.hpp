@@ -2,7 +2,7 @@
 // Parameters of the time-dependent contact law (rate_state_creep.hpp, docs/creep.md).
 namespace triax::creep {
 
-// The law's parameters, one set of defaults (docs/creep.md, "Parameters and their reach").
+// The law's parameters, one set of defaults (docs/creep.md section 5, "Parameters"; reach: bench/README.md, "Rate-and-state contact creep").
 // The scheme's `creep` section is these plus the stage schedule (protocol::CreepLawParameters);
 // the JSON edge maps its fields one to one (server/io/scheme_fields.cpp).
 struct RateStateParams {

@@ -265,7 +265,7 @@ std::vector<ParameterSpec> DemForwardModel::effect_parameters(Effect e) const {
             if (!creep_in_lab_) return {};
             // Rate-and-state creep at the contacts, switched on with its rate sensitivity a
             // (0 = off, the base without creep): a stage's creep per decade of time grows
-            // with a (docs/creep.md, "Parameters and their reach"); the nominal is read off
+            // with a (bench/README.md, "Rate-and-state contact creep"); the nominal is read off
             // the lab's own creep per decade (creep_seed_a_).
             return {{"direct_effect_a", "-", 0.0, kCreepDirectEffectMax, creep_seed_a_, false, true}};
         default: return {};

@@ -51,9 +51,10 @@ inline constexpr double kCrushabilityReferencePa = 0.6e6;
 inline constexpr double kCrushabilityMax = 2.0;
 // The creep effect's rate sensitivity a spans 0 (off) to kCreepDirectEffectMax; an "on"
 // value is at least kCreepDirectEffectMin. Its nominal is read off the lab's creep per
-// decade at its highest stress level through the calibration specimen's measured response
-// (docs/creep.md, "Parameters and their reach"): at S 0.8, 24-h stages, median of seeds,
-// creep per decade ~ kCreepPerDecadeAtRef (a / kCreepRefA)^kCreepPerDecadeExponent.
+// decade at its highest stress level through an assumed power law, creep per decade ~
+// kCreepPerDecadeAtRef (a / kCreepRefA)^kCreepPerDecadeExponent. The two constants are not
+// yet fitted to the calibration specimen's measured response (bench/README.md,
+// "Rate-and-state contact creep": at a 0.03, S 0.8, 24-h stages, 0.0074-0.0102 % per decade).
 inline constexpr double kCreepDirectEffectMin = 0.002;
 inline constexpr double kCreepDirectEffectMax = 0.08;
 inline constexpr double kCreepRefA = 0.03;

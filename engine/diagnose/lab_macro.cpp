@@ -36,10 +36,10 @@ void envelope(const std::vector<std::pair<double, double>>& s31, double& phi_deg
 
 }  // namespace
 
-double creep_strain_per_decade(const std::vector<double>& time_s, const std::vector<double>& strain, double t0_s) {
+double creep_strain_per_decade(const std::vector<double>& time_s, const std::vector<double>& strain, double t0_s, double t1_s) {
     double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (std::size_t i = 0; i < time_s.size() && i < strain.size(); ++i) {
-        if (!(time_s[i] >= t0_s) || !std::isfinite(strain[i])) continue;
+        if (!(time_s[i] >= t0_s && time_s[i] <= t1_s) || !std::isfinite(strain[i])) continue;
         const double x = std::log10(time_s[i]);
         n += 1; sx += x; sy += strain[i]; sxx += x * x; sxy += x * strain[i];
     }

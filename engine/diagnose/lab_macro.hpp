@@ -7,6 +7,7 @@
 // fitted by least squares on (sigma3, sigma1) (c = 0 with a single pressure). The diagnosis
 // starts its base model from them (cohesionless when the envelope has no intercept) and
 // reports them beside the fit.
+#include <limits>
 #include <vector>
 
 #include "engine/diagnose/lab_data.hpp"
@@ -33,9 +34,10 @@ struct CreepMacro {
     double strain_per_decade = 0.0;   // [-], compression positive
 };
 
-// Strain per decade of a (time s, strain) creep record from t0_s on; 0 with fewer than
-// three readings there.
-double creep_strain_per_decade(const std::vector<double>& time_s, const std::vector<double>& strain, double t0_s = 60.0);
+// Strain per decade of a (time s, strain) creep record over [t0_s, t1_s]; 0 with fewer
+// than three readings there.
+double creep_strain_per_decade(const std::vector<double>& time_s, const std::vector<double>& strain, double t0_s = 60.0,
+                               double t1_s = std::numeric_limits<double>::infinity());
 
 struct LabMacro {
     std::vector<ShearMacro> shear;     // one per shear curve with deviator readings
