@@ -12,8 +12,9 @@
 // uses overlap - plastic_overlap; kept while the grains still overlap geometrically).
 // The creep mechanism (engine/creep) reads and writes between cycles: damage (bond
 // corrosion in [0, 1], bond strengths are scaled by 1 - damage), contact_age (s, the
-// rate-and-state friction's state theta), creep_reference_shear (N, |Fs| at the last creep
-// update: the displacement since renews the state), shear_force (the creep slip unloads
+// rate-and-state friction's state theta), creep_reference_shear (N, |Fs| at the stage's
+// start: the loading step's displacement renews the state at the stage's first creep
+// update; negative once counted), shear_force (the creep slip unloads
 // the shear spring). All reset when a contact opens: a new contact is young.
 #include "engine/core/types.hpp"
 
@@ -39,7 +40,7 @@ struct ContactStore {
     std::vector<double> plastic_overlap;     // m, crushed (lost) overlap of a crushable grain contact
     std::vector<double> damage;              // [0, 1], bond corrosion
     std::vector<double> contact_age;         // s, rate-and-state state theta (0: none yet)
-    std::vector<double> creep_reference_shear;  // N, |Fs| after the last creep update
+    std::vector<double> creep_reference_shear;  // N, |Fs| at the stage's start (< 0: counted)
     // Per-step results (slots gathered per particle in a fixed order). A slot that is not
     // active holds zero force and torques: the World's gather adds every candidate slot,
     // so a caller that clears `active` between cycles must clear these three as well.

@@ -98,9 +98,12 @@ CreepUpdateSummary RateStateCreep::update(std::conditional_t<kApply, World&, con
         if (!coulomb_bond && fn > 0.0 && law.friction > 0.0 && law.ks > 0.0) {
             ++frictional;
             carried += fs;
-            // Renewal by the shear displacement taken since the last update (slip law); a
-            // contact with no state yet is as young as a renewed one.
-            const double moved = std::abs(fs - c.creep_reference_shear[k]) / law.ks;
+            // Renewal by the shear displacement of the stage's loading step (slip law), at the
+            // stage's first update only: the relaxations inside a stage move a held contact
+            // elastically and do not renew it. A contact with no state yet is as young as a
+            // renewed one.
+            const double reference = c.creep_reference_shear[k];
+            const double moved = reference >= 0.0 ? std::abs(fs - reference) / law.ks : 0.0;
             const double renewal = p_.critical_slip_m > 0.0 ? std::exp(-moved / p_.critical_slip_m) : 1.0;
             const double theta0 = std::max(p_.renewed_age_s, c.contact_age[k] * renewal);
             const double mu = law.friction;
@@ -116,7 +119,7 @@ CreepUpdateSummary RateStateCreep::update(std::conditional_t<kApply, World&, con
                 out.dissipated_j += 0.5 * (fs * fs - fs_new * fs_new) / law.ks;
                 if (fs > 0.0) c.shear_force[k] *= fs_new / fs;
                 c.contact_age[k] = theta1;
-                c.creep_reference_shear[k] = fs_new;
+                c.creep_reference_shear[k] = kNoLoadingStep;
             }
             out.max_slip_m = std::max(out.max_slip_m, delta);
         }

@@ -13,11 +13,13 @@
 //    theta aging linearly at its start rate g over the increment the update is exact:
 //      s = (a Fn / ks) ln(1 + (D_c / t_r) x I ks / (a Fn)),  I = int_0^dt (t_r / theta(t'))^m dt'
 //    so it is unconditionally stable for any dt, and s <= |Fs| / ks.
-// 2. State renewal by slip: the shear displacement a contact takes between two updates
-//    (a stage's loading, the specimen's re-equilibration), |d|Fs|| / ks, renews its state
-//    by the slip law, theta <- max(t_r, theta exp(-|d|Fs|| / (ks D_c))): a loaded contact
-//    is young again and creeps again from the load step, as the lab's log-time creep counts
-//    time from each load. t_r (renewed_age_s) is the youngest state; a new contact has it.
+// 2. State renewal by the loading step: the shear displacement a contact takes in its
+//    stage's loading, |d|Fs|| / ks from the stage's start to its first update, renews its
+//    state by the slip law, theta <- max(t_r, theta exp(-|d|Fs|| / (ks D_c))): a loaded
+//    contact is young again and creeps again from the load step, as the lab's log-time
+//    creep counts time from each load. The relaxations inside a stage move held contacts
+//    elastically and do not renew them. t_r (renewed_age_s) is the youngest state; a new
+//    contact has it.
 // 3. Stress corrosion of contact bonds (Potyondy 2007):
 //      dDb/dt = b1 exp(b2 rho)  when rho > rho_th
 //    the engine scales bond strengths by (1 - Db). An intact Mohr-Coulomb bond holds its
@@ -42,6 +44,10 @@ struct CreepUpdateSummary {
     double mean_age_s = 0.0;           // state theta over frictional soil contacts
     long bonds_damaged = 0;            // bonds whose corrosion grew
 };
+
+// creep_reference_shear of a contact whose stage's loading step has been counted: no
+// renewal until the next begin_stage.
+inline constexpr double kNoLoadingStep = -1.0;
 
 class RateStateCreep {
 public:

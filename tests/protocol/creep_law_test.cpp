@@ -139,6 +139,26 @@ TEST_CASE("a load step renews the contact's state: creep restarts from the load"
     CHECK((fs_load - shear_of(w)) / 5e5 == Approx(slip_of(fresh9, fs9)).epsilon(0.01));
 }
 
+TEST_CASE("inside a stage a shear change does not renew the state: only the loading step does", "[protocol][creep]") {
+    auto p = base();
+    p.critical_slip_m = 1e-9;
+    const creep::RateStateCreep law(p);
+    // Two contacts aged a day at f 0.8; then the same shear change (f 0.8 -> 0.9), once as a
+    // stage's loading step (after begin_stage) and once inside the stage (a relaxation).
+    World loaded = loaded_pair(law, 0.8), held = loaded_pair(law, 0.8);
+    law.advance(loaded, 86400.0);
+    law.advance(held, 86400.0);
+    law.begin_stage(loaded, false);
+    for (World* w : {&loaded, &held}) w->contacts().shear_force[0] = Vec3(0, 0.9 * 0.4 * w->contacts().normal_force[0], 0);
+    const double fs_loaded = shear_of(loaded), fs_held = shear_of(held);
+    law.advance(loaded, 3600.0);
+    law.advance(held, 3600.0);
+    CHECK(loaded.contacts().contact_age[0] < 2.0 * 3600.0);   // renewed, then an hour old
+    CHECK(held.contacts().contact_age[0] > 86400.0);          // still a day old
+    // The held contact creeps at the new load from its old state: far less in the hour.
+    CHECK(slip_of(loaded, fs_loaded) > 5.0 * slip_of(held, fs_held));
+}
+
 TEST_CASE("the slip unloads the spring, and does not depend on how the period is split", "[protocol][creep]") {
     // D_c large: the slip is limited by the spring, s -> (a Fn / ks) ln(1 + ...).
     auto p = base();
