@@ -3,13 +3,13 @@
 // time step. No global state: several Worlds may run side by side, each with its own
 // OpenMP thread count. SI units throughout. See docs/engine.md for usage.
 //
-// One step (cycle) reads like this:
+// One step (cycle; the recipe in world_step.cpp, its roles under engine/core/step/,
+// engine/integrate/, engine/boundary/ and engine/energy/):
 //   rebuild the neighbour list if something moved more than skin/2
-//   contact forces into per-contact slots (parallel over contacts)
-//   gather per particle in a fixed order (parallel over particles) + external + gravity
-//   clumps: sum member forces, integrate rigidly
-//   integrate spheres (central difference + local damping), move walls
-//   book energies, check for instability
+//   contact forces into per-contact slots (parallel over contacts; walls on one thread)
+//   gather per particle in a fixed order + external + gravity, and integrate the spheres
+//     (central difference + local damping; parallel over particles)
+//   book energies, check for instability, integrate clumps rigidly, move walls
 #include "engine/contact/contact_law.hpp"
 #include "engine/contact/contact_store.hpp"
 #include "engine/core/clump.hpp"
@@ -136,18 +136,8 @@ private:
     void rebuild_neighbors();
     int law_index(int group_a, int group_b);
     void refresh_resolved_laws();
-    // Phases of one step (world_step.cpp); StepState holds the per-block partial sums.
-    struct StepState;
-    void prepare_step(StepState& st, bool last_step);
-    void contact_block(StepState& st, long block);
-    void wall_contacts_pass(StepState& st);
-    void finish_contact_forces(StepState& st);
-    void particle_block(StepState& st, long block);
-    void finish_particles(StepState& st);
-    void finish_step(StepState& st);
-    void integrate_clumps(bool kinetic);
-    void move_walls();
-    void check_stability();
+    // One step as a recipe over the roles (world_step.cpp), run by step::StepExecutor.
+    class Step;
     void update_clump_members(Clump& c);
     double contact_stiffness_fallback(int group) const;
 

@@ -1,7 +1,8 @@
-// The per-step shortcuts of the time step (docs/engine.md, "Performance of the full-size
-// paper group") must give exactly what the plain forms give: the sqrt-free
-// comparisons of the contact law and of the stability check, and the branch-free sign of
-// local damping.
+// The shortcuts inside the time step must give bitwise what their plain forms give, for
+// every input including zeros, subnormals, infinities and NaN: the sqrt-free norm
+// comparisons of the contact law (|x| >= s and |x| > s from x^2), the sqrt-free stability
+// check (moved more than one radius in one step), and the branch-free sign of local
+// damping (sign(v) in {-1, 0, +1}).
 #include "engine/contact/linear.hpp"
 #include "engine/core/world.hpp"
 #include "engine/integrate/local_damping.hpp"
@@ -54,8 +55,9 @@ TEST_CASE("branch-free sign of local damping equals the conditional form", "[eng
     CHECK(sign_of(0.0) == 0.0);
     CHECK(sign_of(-0.0) == 0.0);
     CHECK(sign_of(nan) == 0.0);
-    // On x86 sign_of is two mask compares: the edges and the sign of the
-    // zero (+0.0, as (v > 0) - (v < 0) gives: a -0.0 would still compare equal above).
+    // At the edges: infinities and subnormals keep their sign, NaN of either sign gives 0,
+    // and every zero result is +0.0, as (v > 0) - (v < 0) gives (checked with signbit,
+    // since -0.0 == 0.0 holds and the equalities above cannot tell them apart).
     const double inf = std::numeric_limits<double>::infinity(), tiny = std::numeric_limits<double>::denorm_min();
     CHECK(sign_of(inf) == 1.0);
     CHECK(sign_of(-inf) == -1.0);
