@@ -9,6 +9,7 @@
 #include <map>
 #include <tuple>
 #include <cstdint>
+#include <iterator>
 
 #include "engine/protocol/paper_groups.hpp"
 #include "engine/protocol/triaxial_test.hpp"
@@ -78,6 +79,9 @@ const TestResult& creep_run(std::uint64_t seed = 11) {
     }
     return it->second;
 }
+
+// A creep stage's creep: its deformation after the loading step (m).
+double creep_of(const CreepStageResult& s) { return s.final_deformation_m - s.instant_deformation_m; }
 
 double q_at(const TestResult& r, double eps) {
     for (const auto& p : r.shear)
@@ -158,7 +162,6 @@ TEST_CASE("(2b) at 200 kPa the specimen contracts throughout", "[protocol][slow]
 // regimes are counted over three packings, as shares and means, not asserted on one.
 TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
     const std::uint64_t seeds[] = {11, 12, 13};
-    auto creep_of = [](const CreepStageResult& s) { return s.final_deformation_m - s.instant_deformation_m; };
     double elastic_share_01 = 0.0, creep_01 = 0.0, creep_04 = 0.0, creep_06 = 0.0;
     int settling = 0, middle_stages = 0;
     for (std::uint64_t seed : seeds) {
@@ -168,10 +171,10 @@ TEST_CASE("(3) creep regimes by stress level", "[protocol][slow]") {
         const auto& s1 = r.creep_stages[0];
         CHECK(s1.stress_level == Approx(0.1).epsilon(0.05));
         CHECK(s1.converged);
-        elastic_share_01 += s1.elastic_share / 3.0;
-        creep_01 += creep_of(s1) / 3.0;
-        creep_04 += creep_of(r.creep_stages[1]) / 3.0;
-        creep_06 += creep_of(r.creep_stages[2]) / 3.0;
+        elastic_share_01 += s1.elastic_share / std::size(seeds);
+        creep_01 += creep_of(s1) / std::size(seeds);
+        creep_04 += creep_of(r.creep_stages[1]) / std::size(seeds);
+        creep_06 += creep_of(r.creep_stages[2]) / std::size(seeds);
         // At S = 0.4 and 0.6 creep decelerates and converges.
         for (int k : {1, 2}) {
             ++middle_stages;
@@ -232,10 +235,10 @@ TEST_CASE("(3b) the paper-group preset B: stages 0.1-0.6 converge, S=0.8 creeps 
     if (s4.ruptured) CHECK(s4.rupture_time_s > 24 * 3600.0);
     // Late, not at loading: the first hour holds less than a fifth of the stage's creep,
     // and the stage creeps far more than the converging ones.
-    const double creep4 = s4.final_deformation_m - s4.instant_deformation_m;
+    const double creep4 = creep_of(s4);
     CHECK(deformation_at(s4, 3600.0) - s4.instant_deformation_m < 0.2 * creep4);
     const auto& s3 = r.creep_stages[2];
-    CHECK(creep4 > 10.0 * (s3.final_deformation_m - s3.instant_deformation_m));
+    CHECK(creep4 > 10.0 * creep_of(s3));
 }
 
 // Paper, finding (4): the transient elastic and rapid deformation makes up most of a
@@ -247,7 +250,7 @@ TEST_CASE("(4) most of a decelerating stage's deformation comes in its first 30 
         INFO("stage " << s.stage);
         // The reported shares are the curve's: recomputed here from the readings.
         const double d30 = reading_at(s, 1800.0).axial_deformation_m;
-        const double creep = s.final_deformation_m - s.instant_deformation_m;
+        const double creep = creep_of(s);
         REQUIRE(creep > 0.0);
         CHECK(s.share_in_first_30min == Approx((d30 - s.instant_deformation_m) / creep));
         CHECK(s.total_share_in_first_30min == Approx(d30 / s.final_deformation_m));
@@ -259,9 +262,8 @@ TEST_CASE("(4) most of a decelerating stage's deformation comes in its first 30 
     // second. (Log-time creep of contacts an hour old at loading gives ln 1.5 / ln 5 = 0.25
     // and ln 3 / ln 5 = 0.68; docs/creep.md section 1.)
     const auto& s1 = r.creep_stages[0];
-    const double creep1 = s1.final_deformation_m - s1.instant_deformation_m;
     CHECK(s1.share_in_first_30min > 2.0 * 1800.0 / s1.duration_s);
-    CHECK(reading_at(s1, 0.5 * s1.duration_s).axial_deformation_m - s1.instant_deformation_m > 0.5 * creep1);
+    CHECK(reading_at(s1, 0.5 * s1.duration_s).axial_deformation_m - s1.instant_deformation_m > 0.5 * creep_of(s1));
 }
 
 TEST_CASE("(5) strain energy rises then flattens, higher at higher sigma3", "[protocol][slow]") {
