@@ -6,10 +6,9 @@
 #include <limits>
 #include <sstream>
 
-#include <Eigen/Dense>
-
 #include "engine/diagnose/diagnosis_driver.hpp"
 #include "engine/diagnose/model_selection.hpp"
+#include "engine/diagnose/signature_score.hpp"
 #include "engine/diagnose/residuals.hpp"
 
 namespace triax::diagnose {
@@ -26,29 +25,9 @@ constexpr double kMinimumSwitch = 0.1;
 
 }  // namespace
 
-// Score test: how much of the current residual lies along the effect's signature once the
-// directions the current parameters can already produce (columns of J) are projected out.
-// Only the direction that reduces the residual counts (effects are switched on from zero).
+// Score test of section 3 (signature_score.hpp) at the current fit.
 double DiagnosisDriver::score_signature(const Fit& current, const std::vector<double>& with_effect) const {
-    const auto& r0 = current.cal.residual;
-    if (with_effect.size() != r0.size()) return 0.0;
-    const Eigen::Index n = static_cast<Eigen::Index>(r0.size());
-    Eigen::VectorXd s(n), r(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-        const auto k = static_cast<std::size_t>(i);
-        s[i] = with_effect[k] - r0[k];
-        r[i] = r0[k];
-    }
-    const Eigen::Index k = static_cast<Eigen::Index>(current.cal.best.size());
-    if (k > 0 && static_cast<Eigen::Index>(current.cal.jacobian.size()) == n * k) {
-        const Eigen::Map<const Eigen::MatrixXd> J(current.cal.jacobian.data(), n, k);
-        Eigen::MatrixXd jtj = J.transpose() * J;
-        jtj.diagonal().array() += 1e-9 * std::max(jtj.trace(), 1e-12);
-        s -= J * jtj.ldlt().solve(J.transpose() * s);
-    }
-    const double denom = s.norm() * r.norm();
-    if (denom <= 0.0) return 0.0;
-    return std::max(0.0, -r.dot(s) / denom);
+    return signature_score(current.cal.residual, with_effect, current.cal.jacobian, eval_.layout());
 }
 
 // Points at which effect e's signature is taken: its parameters at their nominal; for an

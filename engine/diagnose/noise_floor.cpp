@@ -35,6 +35,10 @@ std::pair<double, std::size_t> series_noise(const ResidualSeries& s) {
 
 }  // namespace
 
+std::string curve_kind(const std::string& label) {
+    return label.rfind("creep", 0) == 0 || label.rfind("instant", 0) == 0 ? "creep" : "shear";
+}
+
 double lab_reading_noise(const std::vector<ResidualSeries>& layout) {
     double ss = 0.0;
     std::size_t n = 0;
@@ -58,6 +62,7 @@ NoiseFloor noise_floor(const std::vector<ResidualSeries>& layout, const std::vec
     if (runs.size() >= 2) {
         double ss = 0.0;
         std::size_t m = 0, at = 0;
+        std::vector<std::pair<std::string, std::pair<double, std::size_t>>> by_kind;  // kind, (ss, m)
         std::vector<double> values(runs.size());
         for (const auto& s : layout) {
             double ss_c = 0.0;
@@ -74,11 +79,20 @@ NoiseFloor noise_floor(const std::vector<ResidualSeries>& layout, const std::vec
                 ss_c += std::min(var, kUnreachedPenalty * kUnreachedPenalty);
                 ++m_c;
             }
-            if (m_c) f.model_nrmse_per_curve.emplace_back(s.label, std::sqrt(ss_c / static_cast<double>(m_c)));
+            if (m_c) {
+                f.model_nrmse_per_curve.emplace_back(s.label, std::sqrt(ss_c / static_cast<double>(m_c)));
+                const std::string kind = curve_kind(s.label);
+                auto it = std::find_if(by_kind.begin(), by_kind.end(), [&](auto& k) { return k.first == kind; });
+                if (it == by_kind.end()) it = by_kind.insert(by_kind.end(), {kind, {0.0, 0}});
+                it->second.first += ss_c;
+                it->second.second += m_c;
+            }
             ss += ss_c;
             m += m_c;
         }
         f.model_nrmse = m ? std::sqrt(ss / static_cast<double>(m)) : 0.0;
+        for (const auto& [kind, sm] : by_kind)
+            f.model_nrmse_per_kind.emplace_back(kind, std::sqrt(sm.first / static_cast<double>(sm.second)));
     }
     f.tolerance_nrmse = std::sqrt(2.0 * f.model_nrmse * f.model_nrmse + f.lab_nrmse * f.lab_nrmse);
     return f;

@@ -28,11 +28,19 @@ struct NoiseFloor {
     double lab_nrmse = 0.0;
     double tolerance_nrmse = 0.0;
     std::vector<std::pair<std::string, double>> model_nrmse_per_curve;  // label, NRMSE
+    // The same pooled over the curves of one kind of test, "shear" (deviator and volumetric
+    // curves) and "creep" (creep stages and their instant series): a creep stage that
+    // bursts on one packing widens the creep curves' limits, not the shear curves'.
+    std::vector<std::pair<std::string, double>> model_nrmse_per_kind;  // kind, NRMSE
     // The pooled-NRMSE gain a change had to exceed to be named: the median, over the
     // candidates and artefacts tested, of their paired gains' spread across packings (0: no
     // paired gain measured). The smallest effect this diagnosis could have named.
     double smallest_nameable_gain = 0.0;
 };
+
+// The kind of test a curve label belongs to: "creep" for "creep-N@..." and "instant@...",
+// else "shear".
+std::string curve_kind(const std::string& label);
 
 // The lab curves' reading noise (pooled over the layout).
 double lab_reading_noise(const std::vector<ResidualSeries>& layout);

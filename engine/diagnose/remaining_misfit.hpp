@@ -18,7 +18,8 @@ struct RemainingMisfit {
 
 // Unexplained when the pooled NRMSE exceeds max(2 tau, 5 %), or a phase of >= 5 readings
 // exceeds twice that, or one curve exceeds max(2 tau_c, 5 %), tau_c = sqrt(2 s_c^2 + s_lab^2)
-// with s_c the curve's own packing scatter floored at the pooled one. Curves count from 5
+// with s_c the curve's own packing scatter floored at that of its kind of test (shear
+// or creep curves pooled; the pooled scatter when the kind's is not measured). Curves count from 5
 // readings, a creep pressure's instant series (one reading per stage) from 3.
 RemainingMisfit judge_remaining(const std::vector<PhaseError>& error_after, double nrmse_after, const NoiseFloor& noise);
 

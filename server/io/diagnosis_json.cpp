@@ -178,6 +178,8 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
         bounds.push_back({{"name", b.name}, {"unit", b.unit}, {"value", b.value}, {"bound", b.upper ? "upper" : "lower"}});
     json per_curve = json::object();
     for (const auto& [label, v] : r.noise.model_nrmse_per_curve) per_curve[label] = v;
+    json per_kind = json::object();
+    for (const auto& [kind, v] : r.noise.model_nrmse_per_kind) per_kind[kind] = v;
     const auto worst = errors_to_json({r.worst_remaining});
     return {{"outcome", std::string(outcome_name(r.outcome))},
             {"chosen_effect", r.chosen_effect},
@@ -200,7 +202,8 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
                              {"lab_nrmse", r.noise.lab_nrmse},
                              {"tolerance_nrmse", r.noise.tolerance_nrmse},
                              {"smallest_nameable_gain_nrmse", r.noise.smallest_nameable_gain},
-                             {"model_nrmse_per_curve", per_curve}}},
+                             {"model_nrmse_per_curve", per_curve},
+                             {"model_nrmse_per_kind", per_kind}}},
             {"worst_remaining", r.worst_remaining.curve.empty() ? json(nullptr) : worst[0]},
             {"held_fixed", held},
             {"not_testable", untested},
@@ -278,6 +281,8 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
         // A named copy: items() over value()'s temporary would read it after its end.
         const json per_curve = n.value("model_nrmse_per_curve", json::object());
         for (const auto& [label, v] : per_curve.items()) r.noise.model_nrmse_per_curve.emplace_back(label, v.get<double>());
+        const json per_kind = n.value("model_nrmse_per_kind", json::object());
+        for (const auto& [kind, v] : per_kind.items()) r.noise.model_nrmse_per_kind.emplace_back(kind, v.get<double>());
     }
     if (j.contains("worst_remaining") && j["worst_remaining"].is_object())
         r.worst_remaining = errors_from_json(json::array({j["worst_remaining"]})).front();

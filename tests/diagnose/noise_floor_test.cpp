@@ -52,6 +52,10 @@ TEST_CASE("model scatter: the spread of replicate residuals, unreached readings 
     CHECK(f.seeds == 3);
     CHECK(f.model_nrmse == Approx(0.1));
     REQUIRE(f.model_nrmse_per_curve.size() == 1);
+    // One shear curve: its kind's scatter is the pooled one.
+    REQUIRE(f.model_nrmse_per_kind.size() == 1);
+    CHECK(f.model_nrmse_per_kind[0].first == "shear");
+    CHECK(f.model_nrmse_per_kind[0].second == Approx(0.1));
     CHECK(f.tolerance_nrmse == Approx(std::sqrt(2.0 * 0.01 + f.lab_nrmse * f.lab_nrmse)));
     // A packing that runs away at some readings (a creep stage into tertiary creep, 50 lab
     // ranges off): each reading's variance is capped at one lab range squared, so the floor
@@ -65,4 +69,11 @@ TEST_CASE("model scatter: the spread of replicate residuals, unreached readings 
     const NoiseFloor one = noise_floor(layout, {std::vector<double>(n, 0.0)});
     CHECK(one.seeds == 1);
     CHECK(one.model_nrmse == 0.0);
+}
+
+TEST_CASE("curve kinds: creep stages and their instant series apart from the shear curves", "[diagnose][noise]") {
+    CHECK(curve_kind("creep-3@100kPa") == "creep");
+    CHECK(curve_kind("instant@50kPa") == "creep");
+    CHECK(curve_kind("stress_strain@100kPa") == "shear");
+    CHECK(curve_kind("volumetric@200kPa") == "shear");
 }
