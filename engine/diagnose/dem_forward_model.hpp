@@ -100,9 +100,6 @@ public:
     bool includes(Effect e) const override;
     std::string not_offered_reason(Effect e) const override;
     std::vector<HeldParameter> held_fixed() const override;
-    // The base has no contact creep; its only law in time is the stress corrosion of its
-    // bonds, present when the lab's envelope shows cohesion.
-    bool base_acts_in_time() const override { return bonds_calibrated_; }
     // The mean over the model's packings: seed, seed + kPackingSeedStride, ...
     LabDataset simulate(const ModelPoint& point, std::uint64_t seed) const override;
     int packings() const { return packings_; }

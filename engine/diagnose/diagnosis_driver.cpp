@@ -24,13 +24,6 @@ DiagnosisDriver::DiagnosisDriver(const LabDataset& lab, const ForwardModel& mode
     planned_runs_ = opt_.budget_runs + std::max(0, opt_.noise_seeds - 1) + 2 * (k + 2) +
                     opt_.max_effects * (physical + (opt_.max_candidates + 1) * std::max(opt_.refine_runs, 1)) + paired;
     eval_.on_run([this](int) { report_progress(); });
-    bool any_creep = false, any_loading = false;
-    for (const auto& s : eval_.layout()) {
-        const bool creep = s.quantity == Quantity::CreepStrain || s.quantity == Quantity::CreepDeformation;
-        (creep ? any_creep : any_loading) = true;
-        creep_readings_.insert(creep_readings_.end(), s.x.size(), creep);
-    }
-    if (!any_creep || !any_loading || model.base_acts_in_time()) creep_readings_.clear();
     for (const auto& [e, why] : eval_.not_offered()) rep_.not_testable.push_back({std::string(effect_name(e)), why});
     rep_.held_fixed = model.held_fixed();
 }
@@ -49,56 +42,8 @@ std::vector<std::vector<double>> DiagnosisDriver::evaluate(const Variant& v, std
 
 double DiagnosisDriver::nrmse_of(double rss) const { return std::sqrt(rss / static_cast<double>(eval_.readings())); }
 
-// A variant with no effect that acts in physical time is fitted to the loading series only
-// (deviator, volumetric, instant strain at each stage's loading): it has no parameter that
-// moves a creep curve except being nearer to failure, so fitted to creep curves it buys
-// creep by weakening the material and the creep effect's evidence is spent on that. Its
-// residual, RSS, BIC and reported errors still cover every reading.
-const std::vector<bool>& DiagnosisDriver::unfitted_readings(const Variant& v) const {
-    static const std::vector<bool> none;
-    return std::any_of(v.effects.begin(), v.effects.end(), acts_in_time) ? none : creep_readings_;
-}
-
-namespace {
-
-void zero_unfitted(std::vector<double>& r, const std::vector<bool>& unfitted) {
-    if (r.size() != unfitted.size()) return;  // a failed run (empty)
-    for (std::size_t i = 0; i < r.size(); ++i)
-        if (unfitted[i]) r[i] = 0.0;
-}
-
-}  // namespace
-
-// The residuals of a fit made on the loading readings, on every reading (cached runs, no
-// new engine run; artefacts kept where the fit put them).
-void DiagnosisDriver::restore_every_reading(const Variant& v, CalibrationResult& cal) {
-    std::vector<UnitPoint> points = cal.points;
-    points.push_back(cal.best);
-    const auto r = evaluate(v, points, false);
-    for (std::size_t i = 0; i < cal.points.size(); ++i) {
-        if (cal.point_residuals[i].empty() || r[i].empty()) continue;
-        cal.point_residuals[i] = r[i];
-        cal.point_rss[i] = residual_sum_of_squares(r[i]);
-    }
-    if (!r.back().empty()) {
-        cal.residual = r.back();
-        cal.rss = residual_sum_of_squares(cal.residual);
-    }
-}
-
 Fit DiagnosisDriver::fit(const Variant& v, const UnitPoint& start, int design_runs, int refine_runs, bool axial,
                          const CalibrationResult* history, std::vector<UnitPoint> extra_design, int local_starts) {
-    const std::vector<bool>& unfitted = unfitted_readings(v);
-    CalibrationResult loading_history;
-    if (!unfitted.empty() && history) {
-        loading_history = *history;
-        for (std::size_t i = 0; i < loading_history.point_residuals.size(); ++i) {
-            zero_unfitted(loading_history.point_residuals[i], unfitted);
-            if (!loading_history.point_residuals[i].empty())
-                loading_history.point_rss[i] = residual_sum_of_squares(loading_history.point_residuals[i]);
-        }
-        history = &loading_history;
-    }
     Fit f{v, eval_.specs_of(v), {}, 0.0};
     CalibrationSettings st;
     st.start = start;
@@ -113,15 +58,7 @@ Fit DiagnosisDriver::fit(const Variant& v, const UnitPoint& start, int design_ru
     st.initial_radius = axial ? 0.15 : 0.25;
     st.profiled.assign(f.specs.size(), false);
     for (const auto& [j, e] : eval_.artefact_coordinates(v)) st.profiled[j] = true;
-    f.cal = calibrate(
-        [&](std::vector<UnitPoint>& b) {
-            auto r = evaluate(v, b);
-            if (!unfitted.empty())
-                for (auto& x : r) zero_unfitted(x, unfitted);
-            return r;
-        },
-        st);
-    if (!unfitted.empty()) restore_every_reading(v, f.cal);
+    f.cal = calibrate([&](std::vector<UnitPoint>& b) { return evaluate(v, b); }, st);
     return f;
 }
 

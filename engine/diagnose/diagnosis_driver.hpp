@@ -46,10 +46,6 @@ private:
     Fit fit(const Variant& v, const UnitPoint& start, int design_runs, int refine_runs, bool axial,
             const CalibrationResult* history = nullptr, std::vector<UnitPoint> extra_design = {}, int local_starts = 1);
     Fit refit_free(const Variant& v, const Fit& source);
-    // The readings a variant is not fitted to: the creep series when no effect of v acts in
-    // physical time (empty: every reading).
-    const std::vector<bool>& unfitted_readings(const Variant& v) const;
-    void restore_every_reading(const Variant& v, CalibrationResult& cal);
     void finite_difference_jacobian(Fit& f, bool artefacts_only = false);
     std::vector<FittedParameter> parameters_of(const Fit& f, double n_eff) const;
     double nrmse_of(double rss) const;
@@ -76,7 +72,6 @@ private:
     std::vector<std::vector<std::pair<std::string, double>>> step_bics_;
     std::vector<double> step_winner_bic_;
     int planned_runs_ = 1;
-    std::vector<bool> creep_readings_;  // per reading: part of a creep series (after the instant)
     std::string stage_ = "calibration";
 };
 

@@ -28,13 +28,6 @@ constexpr bool is_test_artefact(Effect e) {
     return e == Effect::SeatingError || e == Effect::MembraneCompliance;
 }
 
-// Effects with a parameter that acts in physical time (the creep holds): contact creep and
-// the stress corrosion of bonds/grains. A model without one has no parameter that moves a
-// creep curve except by being nearer to failure (docs/diagnosis.md section 2).
-constexpr bool acts_in_time(Effect e) {
-    return e == Effect::ContactCreepViscosity || e == Effect::BondDegradation;
-}
-
 // snake_case identifier used in reports and the REST API ("rolling_resistance", ...).
 std::string_view effect_name(Effect e);
 std::optional<Effect> effect_from_name(std::string_view name);

@@ -43,10 +43,6 @@ public:
     // Why effect e is not offered on these data (it is part of the base, or the data cannot
     // show it): one phrase for the report; empty when it is offered.
     virtual std::string not_offered_reason(Effect) const { return {}; }
-    // Whether a base parameter moves a creep curve by a law that acts in physical time (true:
-    // the base is fitted to every reading). When false, the base is fitted to the loading
-    // readings only (diagnosis_driver.cpp, unfitted_readings).
-    virtual bool base_acts_in_time() const { return true; }
     // Settings the calibration holds at the scheme's values.
     virtual std::vector<HeldParameter> held_fixed() const { return {}; }
     // Height of the specimen whose deformations simulate() reports (m): a seating strain
