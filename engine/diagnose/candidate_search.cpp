@@ -162,7 +162,7 @@ std::vector<double> DiagnosisDriver::nrmse_on_other_packings(const Fit& f) {
     std::vector<double> out;
     for (const auto& r : eval_.replicates(f.variant, f.cal.best, seeds)) {
         double ss = 0.0;
-        if (r.empty()) ss = kUnreachedPenalty * kUnreachedPenalty * static_cast<double>(eval_.readings());
+        if (r.empty()) ss = eval_.unreached_sum_of_squares();
         for (double x : r) ss += x * x;
         out.push_back(nrmse_of(ss));
     }

@@ -61,7 +61,9 @@ DiagnosisPlan plan_diagnosis(const LabDataset& lab, const ForwardModel& model, c
     p.model_runs_low =
         options.budget_runs + std::max(0, options.noise_seeds - 1) + (options.finite_difference_uncertainty ? k : 0);
     const int steps = std::max(1, options.max_effects);
-    p.model_runs_expected = p.model_runs_low + (std::max(0, p.model_runs - p.model_runs_low) + steps - 1) / steps;
+    const int weighing = driver.weighing_runs();  // a DEM creep set's kinds scatter 10x apart: it is spent
+    p.model_runs_expected =
+        p.model_runs_low + weighing + (std::max(0, p.model_runs - p.model_runs_low - weighing) + steps - 1) / steps;
     std::vector<double> pressures;
     for (const auto& c : lab.curves)
         if (std::none_of(pressures.begin(), pressures.end(),

@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "engine/diagnose/effect.hpp"
@@ -178,6 +179,8 @@ struct DiagnosisReport {
     std::size_t unreached_before = 0;           // readings the model did not reach (not in NRMSE)
     std::size_t unreached_after = 0;
     NoiseFloor noise;                           // packing scatter, lab noise, tolerance
+    // Weight of each kind of test in the fit (fit_weights.hpp); empty: every reading 1.
+    std::vector<std::pair<std::string, double>> fit_weights;
     PhaseError worst_remaining;                 // the final model's largest phase error
     std::vector<HeldParameter> held_fixed;      // settings the fit took as given
     std::vector<NotTestable> not_testable;      // catalog effects not tried, with the reason
@@ -228,8 +231,9 @@ struct DiagnosisPlan {
     // runs, k = base parameters): budget_runs + (noise_seeds - 1) + (fd uncertainty ? k : 0).
     // The effect search (signatures, candidate fits) comes on top of it.
     int model_runs_low = 0;
-    // A diagnosis that searches one effect step: model_runs_low plus the search's share of
-    // one of max_effects steps, ceil((model_runs - model_runs_low) / max_effects). The
+    // A diagnosis that searches one effect step: model_runs_low, the kinds' weighing on data
+    // with shear curves and creep stages (w), and the search's share of one of max_effects
+    // steps, ceil((model_runs - model_runs_low - w) / max_effects). The
     // bound counts every step with every candidate passing BIC; most diagnoses stop after
     // one step (measured on the outside suite: docs/diagnosis.md section 5).
     int model_runs_expected = 0;

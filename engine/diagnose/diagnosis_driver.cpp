@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 
+#include "engine/diagnose/fit_weights.hpp"
 #include "engine/diagnose/model_selection.hpp"
 #include "engine/diagnose/remaining_misfit.hpp"
 
@@ -21,7 +22,12 @@ DiagnosisDriver::DiagnosisDriver(const LabDataset& lab, const ForwardModel& mode
     // BIC, on the noise floor's other packings; and the final model with and without each
     // artefact kept (the artefacts' paired gains, settle_artefacts).
     const int paired = (opt_.max_effects * (opt_.max_candidates + 1) + 1 + artefacts) * std::max(0, opt_.noise_seeds - 1);
-    planned_runs_ = opt_.budget_runs + std::max(0, opt_.noise_seeds - 1) + 2 * (k + 2) +
+    // The kinds' weights (weigh_kinds) cost a refinement and a second noise floor when the
+    // data hold two kinds of test.
+    bool shear = false, creep = false;
+    for (const auto& s : eval_.layout()) (curve_kind(s.label) == "creep" ? creep : shear) = true;
+    weighing_runs_ = shear && creep && opt_.noise_seeds > 1 ? opt_.refine_runs + opt_.noise_seeds - 1 : 0;
+    planned_runs_ = opt_.budget_runs + std::max(0, opt_.noise_seeds - 1) + weighing_runs_ + 2 * (k + 2) +
                     opt_.max_effects * (physical + (opt_.max_candidates + 1) * std::max(opt_.refine_runs, 1)) + paired;
     eval_.on_run([this](int) { report_progress(); });
     for (const auto& [e, why] : eval_.not_offered()) rep_.not_testable.push_back({std::string(effect_name(e)), why});
@@ -145,14 +151,34 @@ Fit DiagnosisDriver::calibrate_base() {
 // 2. The calibrated base on other packings: what a change of packing alone gives.
 void DiagnosisDriver::measure_noise_floor(const Fit& base) {
     stage_ = "noise floor";
-    std::vector<std::vector<double>> replicas{base.cal.residual};
+    std::vector<std::vector<double>> replicas{eval_.unweighted(base.cal.residual)};
     if (opt_.noise_seeds > 1) {
         std::vector<std::uint64_t> seeds;
         for (int k = 1; k < opt_.noise_seeds; ++k) seeds.push_back(opt_.seed + static_cast<std::uint64_t>(k));
-        auto more = eval_.replicates(base.variant, base.cal.best, seeds);
-        replicas.insert(replicas.end(), more.begin(), more.end());
+        for (auto& r : eval_.replicates(base.variant, base.cal.best, seeds))
+            replicas.push_back(r.empty() ? r : eval_.unweighted(std::move(r)));
     }
     rep_.noise = noise_floor(eval_.layout(), replicas);
+}
+
+// 2b. Kinds of test weighted by their packing scatter (fit_weights.hpp). When the noise
+//     floor finds the kinds' scatters far apart, every run so far is re-scored with the
+//     weights (no new run), the base refined on the weighted misfit, and the noise floor
+//     measured again at the new base. Its weights then hold for the rest of the diagnosis,
+//     and every run made under the first ones is re-scored before it is used again.
+Fit DiagnosisDriver::weigh_kinds(const Fit& base) {
+    KindWeights w = kind_weights(rep_.noise);
+    if (w.empty()) return base;
+    eval_.set_reading_weights(reading_weights(eval_.layout(), w));
+    stage_ = "calibration";
+    const Fit rescored = refit_free(base.variant, base);
+    Fit weighted = fit(base.variant, rescored.cal.best, 0, opt_.refine_runs, false, &rescored.cal, {}, 2);
+    if (!std::isfinite(weighted.cal.rss) || weighted.cal.rss > rescored.cal.rss) weighted = rescored;
+    measure_noise_floor(weighted);
+    w = kind_weights(rep_.noise);
+    eval_.set_reading_weights(reading_weights(eval_.layout(), w));
+    rep_.fit_weights = w;
+    return refit_free(weighted.variant, weighted);
 }
 
 // 3. Physical effects, stepwise. The artefacts stay in every model as nuisance parameters
@@ -261,7 +287,8 @@ Fit DiagnosisDriver::settle_artefacts(Fit current) {
         st.nrmse_after = nrmse_of(current.cal.rss);
         st.delta_bic = bic(current.cal.rss, n, ne, current.specs.size()) - bic(w.cal.rss, n, ne, w.specs.size());
         st.n_effective = ne;
-        st.gain_by_confining = gains_by_confining(w.cal.residual, current.cal.residual, eval_.ranges(), series_confining);
+        st.gain_by_confining = gains_by_confining(eval_.unweighted(w.cal.residual), eval_.unweighted(current.cal.residual),
+                                                  eval_.ranges(), series_confining);
         bool named = false;
         if (opt_.noise_seeds > 1) {
             // The packings measure the gain's noise; BIC (at the artefacts' bound) says
@@ -316,10 +343,12 @@ void DiagnosisDriver::report(const Fit& final_fit, const Fit& base_source) {
     else current.cal.jacobian = base_final.cal.jacobian;
     rep_.base_parameters = parameters_of(base_final, n_eff);
     rep_.parameters = parameters_of(current, n_eff);
-    rep_.error_before = phase_errors(eval_.layout(), base_final.cal.residual);
-    rep_.error_after = phase_errors(eval_.layout(), current.cal.residual);
-    std::tie(rep_.nrmse_before, rep_.unreached_before) = reached_nrmse(base_final.cal.residual);
-    std::tie(rep_.nrmse_after, rep_.unreached_after) = reached_nrmse(current.cal.residual);
+    // Errors on the readings as they are (no kind weights).
+    const std::vector<double> before = eval_.unweighted(base_final.cal.residual), after = eval_.unweighted(current.cal.residual);
+    rep_.error_before = phase_errors(eval_.layout(), before);
+    rep_.error_after = phase_errors(eval_.layout(), after);
+    std::tie(rep_.nrmse_before, rep_.unreached_before) = reached_nrmse(before);
+    std::tie(rep_.nrmse_after, rep_.unreached_after) = reached_nrmse(after);
     rep_.delta_bic_vs_base =
         bic(current.cal.rss, n, n_eff, current.specs.size()) - bic(base_final.cal.rss, n, n_eff, base_final.specs.size());
     rep_.base_curves = eval_.curves(base_final.variant, base_final.cal.best);
@@ -371,8 +400,9 @@ void DiagnosisDriver::report(const Fit& final_fit, const Fit& base_source) {
 }
 
 DiagnosisReport DiagnosisDriver::run() {
-    const Fit base = calibrate_base();
+    Fit base = calibrate_base();
     measure_noise_floor(base);
+    base = weigh_kinds(base);
     Fit base_source = base;
     Fit current = add_effects(base, base_source);
     current = settle_artefacts(current);

@@ -2,6 +2,7 @@
 // DiagnosisDriver: the steps of docs/diagnosis.md on one dataset and one forward model.
 //   1. calibrate_base       base parameters, test artefacts profiled (they cost no run)
 //   2. measure_noise_floor  the calibrated base on other packings; the lab's reading noise
+//      weigh_kinds          kinds of test far apart in scatter: weighted, base refined, floor again
 //   3. add_effects          stepwise: signatures, candidate fits, selection by BIC and gain
 //   4. settle_artefacts     backward pass over seating / membrane
 //   5. report               errors before/after, outcome, what was held fixed or not tested
@@ -32,11 +33,15 @@ public:
     DiagnosisReport run();
     std::vector<CandidateResult> rank_at(const std::vector<double>& base_values);
     int planned_runs() const { return planned_runs_; }
+    // Of them, the kinds' weighing (weigh_kinds): a refinement and a second noise floor, on
+    // data with shear curves and creep stages.
+    int weighing_runs() const { return weighing_runs_; }
 
 private:
     // The steps.
     Fit calibrate_base();
     void measure_noise_floor(const Fit& base);
+    Fit weigh_kinds(const Fit& base);
     Fit add_effects(Fit current, Fit& base_source);
     Fit settle_artefacts(Fit current);
     void report(const Fit& final_fit, const Fit& base_source);
@@ -72,6 +77,7 @@ private:
     std::vector<std::vector<std::pair<std::string, double>>> step_bics_;
     std::vector<double> step_winner_bic_;
     int planned_runs_ = 1;
+    int weighing_runs_ = 0;
     std::string stage_ = "calibration";
 };
 

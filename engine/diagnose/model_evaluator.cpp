@@ -1,6 +1,8 @@
 // Cached, batched, retried forward runs and their residuals (see model_evaluator.hpp).
 #include "engine/diagnose/model_evaluator.hpp"
 
+#include "engine/diagnose/fit_weights.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -166,7 +168,21 @@ std::vector<std::string> ModelEvaluator::failure_messages() const {
 std::vector<double> ModelEvaluator::with_artefacts(const Variant& v, const LabDataset& physical, const UnitPoint& u) const {
     LabDataset d = physical;
     for (const auto& [j, e] : artefact_coordinates(v)) apply_test_artefact(d, e, {to_parameter(effect_specs_.at(e)[0], u[j])}, model_.specimen_height_m());
-    return normalised_residual(layout_, d);
+    auto r = normalised_residual(layout_, d);
+    if (weights_.size() == r.size())
+        for (std::size_t i = 0; i < r.size(); ++i) r[i] *= weights_[i];
+    return r;
+}
+
+std::vector<double> ModelEvaluator::unweighted(std::vector<double> r) const {
+    return diagnose::unweighted(std::move(r), weights_);
+}
+
+double ModelEvaluator::unreached_sum_of_squares() const {
+    if (weights_.size() != readings()) return kUnreachedPenalty * kUnreachedPenalty * static_cast<double>(readings());
+    double ss = 0.0;
+    for (double w : weights_) ss += kUnreachedPenalty * kUnreachedPenalty * w * w;
+    return ss;
 }
 
 // Artefact coordinates of u set to their optimum for this run: coarse grid, then golden

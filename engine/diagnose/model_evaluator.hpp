@@ -63,6 +63,14 @@ public:
     // Not cached with the calibration's runs (they are another specimen).
     std::vector<std::vector<double>> replicates(const Variant& v, const UnitPoint& u, const std::vector<std::uint64_t>& seeds);
 
+    // Weight of each reading in every residual returned (fit_weights.hpp; empty: all 1).
+    void set_reading_weights(std::vector<double> w) { weights_ = std::move(w); }
+    const std::vector<double>& reading_weights() const { return weights_; }
+    // A returned residual without its weights; a reading not reached reads kUnreachedPenalty.
+    std::vector<double> unweighted(std::vector<double> r) const;
+    // Sum of squares of a run that reached no reading (every reading at the penalty).
+    double unreached_sum_of_squares() const;
+
     int runs() const { return runs_.load(); }
     int failures() const { return failures_.load(); }     // points whose run and retry both failed
     int retried() const { return retried_.load(); }       // runs that failed once and were retried
@@ -87,6 +95,7 @@ private:
     std::uint64_t seed_;
     std::vector<ResidualSeries> layout_;
     std::vector<std::pair<std::size_t, std::size_t>> ranges_;
+    std::vector<double> weights_;
     std::vector<ParameterSpec> base_specs_;
     std::map<Effect, std::vector<ParameterSpec>> effect_specs_;
     std::vector<std::pair<Effect, std::string>> not_offered_;

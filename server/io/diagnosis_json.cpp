@@ -180,6 +180,8 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
     for (const auto& [label, v] : r.noise.model_nrmse_per_curve) per_curve[label] = v;
     json per_kind = json::object();
     for (const auto& [kind, v] : r.noise.model_nrmse_per_kind) per_kind[kind] = v;
+    json fit_weights = json::object();
+    for (const auto& [kind, v] : r.fit_weights) fit_weights[kind] = v;
     const auto worst = errors_to_json({r.worst_remaining});
     return {{"outcome", std::string(outcome_name(r.outcome))},
             {"chosen_effect", r.chosen_effect},
@@ -204,6 +206,7 @@ json diagnosis_report_to_json(const DiagnosisReport& r) {
                              {"smallest_nameable_gain_nrmse", r.noise.smallest_nameable_gain},
                              {"model_nrmse_per_curve", per_curve},
                              {"model_nrmse_per_kind", per_kind}}},
+            {"fit_weight_per_kind", fit_weights},
             {"worst_remaining", r.worst_remaining.curve.empty() ? json(nullptr) : worst[0]},
             {"held_fixed", held},
             {"not_testable", untested},
@@ -284,6 +287,8 @@ DiagnosisReport diagnosis_report_from_json(const json& j) {
         const json per_kind = n.value("model_nrmse_per_kind", json::object());
         for (const auto& [kind, v] : per_kind.items()) r.noise.model_nrmse_per_kind.emplace_back(kind, v.get<double>());
     }
+    const json fit_weights = j.value("fit_weight_per_kind", json::object());
+    for (const auto& [kind, v] : fit_weights.items()) r.fit_weights.emplace_back(kind, v.get<double>());
     if (j.contains("worst_remaining") && j["worst_remaining"].is_object())
         r.worst_remaining = errors_from_json(json::array({j["worst_remaining"]})).front();
     for (const auto& h : j.value("held_fixed", json::array()))

@@ -36,6 +36,7 @@ DiagnosisReport sample_report() {
     r.nrmse_after = 0.02;
     r.runs_used = 77;
     r.noise.model_nrmse_per_curve = {{"stress_strain@100kPa", 0.03}, {"creep-2@100kPa", 0.05}};
+    r.fit_weights = {{"shear", 1.0}, {"creep", 0.08}};
     r.outcome = Outcome::EffectFound;
     return r;
 }
@@ -72,6 +73,7 @@ TEST_CASE("report JSON reads back to the same report", "[diagnose][json]") {
     // Per-curve noise by label (a JSON object: the order is the labels').
     auto by_label = [](auto v) { std::sort(v.begin(), v.end()); return v; };
     CHECK(by_label(r1.noise.model_nrmse_per_curve) == by_label(r0.noise.model_nrmse_per_curve));
+    CHECK(by_label(r1.fit_weights) == by_label(r0.fit_weights));
     CHECK(triax::io::diagnosis_verdict(r1) == triax::io::diagnosis_verdict(r0));
     CHECK(r1.outcome == r0.outcome);
 }
