@@ -162,23 +162,23 @@ void DiagnosisDriver::measure_noise_floor(const Fit& base) {
 }
 
 // 2b. Kinds of test weighted by their packing scatter (fit_weights.hpp). When the noise
-//     floor finds the kinds' scatters far apart, every run so far is re-scored with the
-//     weights (no new run), the base refined on the weighted misfit, and the noise floor
-//     measured again at the new base. Its weights then hold for the rest of the diagnosis,
-//     and every run made under the first ones is re-scored before it is used again.
+//     floor at the pooled fit's base finds the kinds' scatters far apart, every run so far is
+//     re-scored with the weights (no new run), the base refined on the weighted misfit, and
+//     the noise floor measured again at the new base (the tolerance's). The weights hold for
+//     the rest of the diagnosis. Not recomputed from the second floor: the scatter is the
+//     base's own, and a base that no longer stands near failure has quiet creep stages, so
+//     weights from there would hand the fit back to the weakening that made them scatter.
 Fit DiagnosisDriver::weigh_kinds(const Fit& base) {
-    KindWeights w = kind_weights(rep_.noise);
+    const KindWeights w = kind_weights(rep_.noise);
     if (w.empty()) return base;
     eval_.set_reading_weights(reading_weights(eval_.layout(), w));
+    rep_.fit_weights = w;
     stage_ = "calibration";
     const Fit rescored = refit_free(base.variant, base);
     Fit weighted = fit(base.variant, rescored.cal.best, 0, opt_.refine_runs, false, &rescored.cal, {}, 2);
     if (!std::isfinite(weighted.cal.rss) || weighted.cal.rss > rescored.cal.rss) weighted = rescored;
     measure_noise_floor(weighted);
-    w = kind_weights(rep_.noise);
-    eval_.set_reading_weights(reading_weights(eval_.layout(), w));
-    rep_.fit_weights = w;
-    return refit_free(weighted.variant, weighted);
+    return weighted;
 }
 
 // 3. Physical effects, stepwise. The artefacts stay in every model as nuisance parameters
