@@ -174,9 +174,9 @@ Fit DiagnosisDriver::weigh_kinds(const Fit& base) {
     eval_.set_reading_weights(reading_weights(eval_.layout(), w));
     rep_.fit_weights = w;
     stage_ = "calibration";
+    // The re-scored runs are the refinement's history, so its best is never worse than theirs.
     const Fit rescored = refit_free(base.variant, base);
     Fit weighted = fit(base.variant, rescored.cal.best, 0, opt_.refine_runs, false, &rescored.cal, {}, 2);
-    if (!std::isfinite(weighted.cal.rss) || weighted.cal.rss > rescored.cal.rss) weighted = rescored;
     measure_noise_floor(weighted);
     return weighted;
 }

@@ -65,7 +65,6 @@ public:
 
     // Weight of each reading in every residual returned (fit_weights.hpp; empty: all 1).
     void set_reading_weights(std::vector<double> w) { weights_ = std::move(w); }
-    const std::vector<double>& reading_weights() const { return weights_; }
     // A returned residual without its weights; a reading not reached reads kUnreachedPenalty.
     std::vector<double> unweighted(std::vector<double> r) const;
     // Sum of squares of a run that reached no reading (every reading at the penalty).
