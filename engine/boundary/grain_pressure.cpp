@@ -18,6 +18,13 @@ GrainPressure::GrainPressure(int first, int count, double specimen_radius_m, dou
     share_depth_ = kShareDepth * cell_size_m;
     n_theta_ = std::max(8, static_cast<int>(std::ceil(2.0 * kPi * specimen_radius_m / cell_size_m)));
     n_z_ = std::max(2, static_cast<int>(std::ceil(height_m / cell_size_m)));
+    const double dth = 2.0 * kPi / n_theta_;
+    for (int k = 0; k < n_theta_; ++k) {
+        edge_cos_.push_back(std::cos(k * dth));
+        edge_sin_.push_back(std::sin(k * dth));
+        centre_cos_.push_back(std::cos((k + 0.5) * dth));
+        centre_sin_.push_back(std::sin((k + 0.5) * dth));
+    }
 }
 
 template <class Visit>
@@ -33,6 +40,8 @@ void GrainPressure::for_each_reach(const World& world, double z_bottom, double z
         // Cells (unwrapped index k spans [k dth, (k + 1) dth]) within the grain's angular
         // reach; all of them for a grain on the axis.
         const double thc = std::atan2(c.y(), c.x());
+        // Direction of the centre; a grain on the axis takes the x axis (atan2(0, 0) = 0).
+        const double cos_c = rc > 0.0 ? c.x() / rc : 1.0, sin_c = rc > 0.0 ? c.y() / rc : 0.0;
         const double half = rc > a ? std::asin(a / rc) : kPi;
         const int k0 = static_cast<int>(std::floor((thc - half) / dth));
         const int k1 = std::min(k0 + n_theta_ - 1, static_cast<int>(std::floor((thc + half) / dth)));
@@ -44,12 +53,19 @@ void GrainPressure::for_each_reach(const World& world, double z_bottom, double z
             const double a_row2 = a * a - h * h;  // squared radius of the grain's section there
             if (a_row2 <= 0.0) continue;
             for (int k = k0; k <= k1; ++k) {
-                const double th = std::clamp(thc, k * dth, (k + 1) * dth);
-                const double t = rc * std::cos(th - thc);  // centre's distance along the ray
-                const double off = rc * std::sin(th - thc);
+                // The ray nearest the centre within the cell: the centre's own when the cell
+                // holds it, else the nearer edge (k or k + 1), at angle th - thc from it.
+                double cos_d = 1.0, sin_d = 0.0;  // cos, sin of th - thc
+                const bool below = thc < k * dth, above = thc > (k + 1) * dth;
+                if (below || above) {
+                    const int e = wrap(below ? k : k + 1);
+                    cos_d = edge_cos_[e] * cos_c + edge_sin_[e] * sin_c;
+                    sin_d = edge_sin_[e] * cos_c - edge_cos_[e] * sin_c;
+                }
+                const double t = rc * cos_d;  // centre's distance along the ray
+                const double off = rc * sin_d;
                 if (off * off >= a_row2) continue;
-                visit(q, static_cast<std::size_t>(iz) * n_theta_ + ((k % n_theta_) + n_theta_) % n_theta_,
-                      t + std::sqrt(a_row2 - off * off));
+                visit(q, static_cast<std::size_t>(iz) * n_theta_ + wrap(k), t + std::sqrt(a_row2 - off * off));
             }
         }
     }
@@ -61,36 +77,31 @@ std::vector<double> GrainPressure::envelope(const World& world, double z_bottom,
     return rho;
 }
 
-double GrainPressure::apply_pressure(World& world, double pressure_pa, double z_bottom, double z_top) const {
+double GrainPressure::apply_pressure(World& world, double pressure_pa, double z_bottom, double z_top) {
     // Every (grain, cell, reach) once: the envelope, the shares and the forces all read it.
-    struct Reach {
-        int grain;
-        std::size_t cell;
-        double rho;  // m
-    };
-    std::vector<Reach> reaches;
-    std::vector<double> rho(static_cast<std::size_t>(n_theta_) * n_z_, 0.0);
+    reaches_.clear();
+    rho_.assign(static_cast<std::size_t>(n_theta_) * n_z_, 0.0);
     for_each_reach(world, z_bottom, z_top, [&](int q, std::size_t cell, double r) {
-        reaches.push_back({q, cell, r});
-        rho[cell] = std::max(rho[cell], r);
+        reaches_.push_back({q, cell, r});
+        rho_[cell] = std::max(rho_[cell], r);
     });
     // The grains within `share_depth_` of a cell's envelope share its force, weighted
     // 1 - depth / share_depth_: the force moves continuously from grain to grain as they
     // move, instead of jumping to whichever is outermost by a hair (which kept consolidation
     // from settling).
-    auto weight = [&](const Reach& r) { return std::max(0.0, 1.0 - (rho[r.cell] - r.rho) / share_depth_); };
-    std::vector<double> weight_sum(rho.size(), 0.0);
-    for (const Reach& r : reaches) weight_sum[r.cell] += weight(r);
+    auto weight = [&](const Reach& r) { return std::max(0.0, 1.0 - (rho_[r.cell] - r.rho) / share_depth_); };
+    weight_sum_.assign(rho_.size(), 0.0);
+    for (const Reach& r : reaches_) weight_sum_[r.cell] += weight(r);
     auto& p = world.particles();
     for (int q = first_; q < first_ + count_; ++q) p.external_force[q].setZero();
     const double dth = 2.0 * kPi / n_theta_, dz = (z_top - z_bottom) / n_z_;
     double total = 0.0;
-    for (const Reach& r : reaches) {
+    for (const Reach& r : reaches_) {
         const double w = weight(r);
         if (w <= 0.0) continue;
-        const double th = (static_cast<double>(r.cell % n_theta_) + 0.5) * dth;
-        const double f = pressure_pa * rho[r.cell] * dth * dz * w / weight_sum[r.cell];  // N, the grain's share of the cell
-        p.external_force[r.grain] -= f * Vec3(std::cos(th), std::sin(th), 0.0);
+        const std::size_t it = r.cell % n_theta_;
+        const double f = pressure_pa * rho_[r.cell] * dth * dz * w / weight_sum_[r.cell];  // N, the grain's share of the cell
+        p.external_force[r.grain] -= f * Vec3(centre_cos_[it], centre_sin_[it], 0.0);
         total += f;
     }
     return total;

@@ -25,8 +25,10 @@ public:
 
     // Sets the external force of every grain in the range from the pressure (Pa): the
     // outermost grains of each cell get that cell's share, the others none. Returns the
-    // total radial force applied (N).
-    double apply_pressure(World& world, double pressure_pa, double z_bottom, double z_top) const;
+    // total radial force applied (N). Not const: it works in the object's scratch arrays,
+    // so one call allocates nothing (it runs every 10 DEM steps of a ~200-grain specimen,
+    // where per-call vectors cost a tenth of the run in malloc and heap trimming).
+    double apply_pressure(World& world, double pressure_pa, double z_bottom, double z_top);
 
     // Volume inside the grains' envelope between the platens (m^3): per cell the sector
     // 0.5 rho^2 dtheta dz; a cell no grain reaches takes its row's mean rho.
@@ -43,12 +45,27 @@ private:
     // radius rho (m) its surface reaches within the cell; cells row-major (iz * n_theta + it).
     template <class Visit>
     void for_each_reach(const World& world, double z_bottom, double z_top, Visit&& visit) const;
+    // Cell index in [0, n_theta) of an unwrapped angular index.
+    int wrap(int k) const { return ((k % n_theta_) + n_theta_) % n_theta_; }
     // Per cell the farthest radius any grain reaches (m); 0 where none does.
     std::vector<double> envelope(const World& world, double z_bottom, double z_top) const;
+
+    struct Reach {
+        int grain;
+        std::size_t cell;
+        double rho;  // m
+    };
 
     int first_ = 0, count_ = 0;
     int n_theta_ = 0, n_z_ = 0;
     double share_depth_ = 0.0;  // m
+    // cos and sin of the cell edges (edge k at k dtheta) and of the cell centres, so the
+    // reach and the force directions need no trigonometric call per grain and cell.
+    std::vector<double> edge_cos_, edge_sin_, centre_cos_, centre_sin_;
+    // apply_pressure's scratch: every (grain, cell, reach), per cell the envelope and the
+    // sum of the sharing weights.
+    std::vector<Reach> reaches_;
+    std::vector<double> rho_, weight_sum_;
 };
 
 }  // namespace triax::boundary

@@ -38,7 +38,7 @@ struct Rings {
 TEST_CASE("grain pressure: the radial force is p times the envelope's area, on the surface grains, inwards",
           "[engine][grain_pressure]") {
     Rings rings(8);
-    const boundary::GrainPressure gp(0, rings.count(), rings.R, rings.height(), rings.a);
+    boundary::GrainPressure gp(0, rings.count(), rings.R, rings.height(), rings.a);
     const double p = 100e3;
     const double total = gp.apply_pressure(rings.world, p, 0.0, rings.height());
     // The envelope dips between the ring's spheres by less than a few % of R.
@@ -65,7 +65,7 @@ TEST_CASE("grain pressure: the radial force is p times the envelope's area, on t
 
 TEST_CASE("grain pressure: a grain that sticks out takes its cells' share, continuously", "[engine][grain_pressure]") {
     Rings rings(6);
-    const boundary::GrainPressure gp(0, rings.count(), rings.R, rings.height(), rings.a);
+    boundary::GrainPressure gp(0, rings.count(), rings.R, rings.height(), rings.a);
     const double p = 50e3;
     const int q = 2 * rings.n_ring + 3;  // a sphere in the third row
     gp.apply_pressure(rings.world, p, 0.0, rings.height());
