@@ -280,8 +280,10 @@ static const TestResult& preset_creep_run() {
     return r;
 }
 
-TEST_CASE("(3b) the paper-group preset B: stages 0.1-0.6 converge, S=0.8 creeps far more, and late", "[protocol][slow][preset]") {
-    // A full-size run (about 8 min on one core).
+// A full-size run (4-8 min on one core), so not in CI (full-size runs belong to bench/):
+//   ./build/tests/test_protocol "[.preset]"
+// and over groups and seeds bench/regime_tally.sh.
+TEST_CASE("(3b) the paper-group preset B: stages 0.1-0.6 converge, S=0.8 creeps far more, and late", "[protocol][slow][.preset]") {
     const auto& r = preset_creep_run();
     REQUIRE(r.creep_stages.size() == 4);
     CHECK(r.creep_stages[0].elastic_share >= 0.9);
