@@ -8,7 +8,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${TRIAX_BUILD_DIR:-$here/build}"
 cd "$build"
 ctest --output-on-failure -j "${TRIAX_TEST_JOBS:-2}" "$@"
-# The parsers' libFuzzer targets (tests/fuzz, 45 s each) when clang is present: a second
+# The parsers' libFuzzer targets (tests/fuzz, 30 s each) when clang is present: a second
 # build tree compiled with clang, ASan and UBSan.
 if command -v clang++ >/dev/null 2>&1 && [[ "${TRIAX_WITH_FUZZ:-1}" == 1 ]]; then
   fuzz_build="${TRIAX_FUZZ_BUILD_DIR:-$here/build-fuzz}"
