@@ -16,7 +16,7 @@ using nlohmann::json;
 
 namespace {
 
-const char* kSelect =
+const char* kSelectDiagnoses =
     "SELECT id, dataset_id, status, progress_pct, report_json, created_at, finished_at, error, request_json, rerun_of "
     "FROM diagnoses";
 
@@ -116,7 +116,7 @@ json DiagnosisService::rerun(std::int64_t id) {
 
 json DiagnosisService::status(std::int64_t id) {
     auto d = db_.with([&](Database& db) {
-        auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
+        auto st = db.prepare(std::string(kSelectDiagnoses) + " WHERE id = ?");
         st.bind_all(id);
         if (!st.step()) throw not_found("diagnosis " + std::to_string(id) + " does not exist");
         // The scheme diagnosed (the user's; the report's model_schemes are the calibrated
@@ -134,7 +134,7 @@ json DiagnosisService::status(std::int64_t id) {
 json DiagnosisService::list(const PageRequest& page) {
     return db_.with([&](Database& db) {
         return read_page(
-            db, page, "diagnoses", kSelect, "id",
+            db, page, "diagnoses", kSelectDiagnoses, "id",
             [](Statement& st) {
                 auto d = diagnosis_json(st);
                 if (d["report"].is_object()) d["chosen_effect"] = d["report"].value("chosen_effect", "");

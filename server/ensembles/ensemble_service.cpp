@@ -13,7 +13,7 @@ using nlohmann::json;
 
 namespace {
 
-const char* kSelect =
+const char* kSelectEnsembles =
     "SELECT id, scheme_id, name, seeds, status, members_done, members_total, concurrency, created_at, started_at, "
     "finished_at, error FROM ensembles";
 
@@ -63,7 +63,7 @@ json EnsembleService::submit(std::int64_t scheme_id, const std::string& seeds_te
 
 json EnsembleService::status(std::int64_t id) {
     return db_.with([&](Database& db) {
-        auto st = db.prepare(std::string(kSelect) + " WHERE id = ?");
+        auto st = db.prepare(std::string(kSelectEnsembles) + " WHERE id = ?");
         st.bind_all(id);
         if (!st.step()) throw not_found("ensemble " + std::to_string(id) + " does not exist");
         auto out = ensemble_json(st);
@@ -75,7 +75,7 @@ json EnsembleService::status(std::int64_t id) {
 }
 
 json EnsembleService::list(const PageRequest& page) {
-    return db_.with([&](Database& db) { return read_page(db, page, "ensembles", kSelect, "id", ensemble_json, "status"); });
+    return db_.with([&](Database& db) { return read_page(db, page, "ensembles", kSelectEnsembles, "id", ensemble_json, "status"); });
 }
 
 std::string EnsembleService::band_csv(std::int64_t id, const std::string& which) {

@@ -6,7 +6,7 @@ using nlohmann::json;
 
 namespace {
 
-const char* kSelect = "SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons";
+const char* kSelectComparisons = "SELECT id, run_id, dataset_id, result_json, created_at FROM comparisons";
 
 json comparison_row(Statement& st) {
     json out = json::parse(st.text(3));
@@ -26,12 +26,12 @@ std::int64_t ComparisonStore::insert(std::int64_t run_id, std::int64_t dataset_i
 }
 
 json ComparisonStore::get(std::int64_t id) {
-    return db_.row(std::string(kSelect) + " WHERE id = ?", id, NotFound::row("comparison", id), comparison_row);
+    return db_.row(std::string(kSelectComparisons) + " WHERE id = ?", id, NotFound::row("comparison", id), comparison_row);
 }
 
 json ComparisonStore::page(const PageRequest& page) {
     return db_.with([&](Database& db) {
-        return read_page(db, page, "comparisons", kSelect, "id", [](Statement& st) {
+        return read_page(db, page, "comparisons", kSelectComparisons, "id", [](Statement& st) {
             auto c = comparison_row(st);
             for (auto& curve : c["curves"]) curve.erase("residual");
             return c;

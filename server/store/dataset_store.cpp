@@ -16,7 +16,7 @@ DatasetRow dataset_row(Statement& st) {
     return r;
 }
 
-const char* kSelect = "SELECT id, name, format, created_at, header_json FROM datasets";
+const char* kSelectDatasets = "SELECT id, name, format, created_at, header_json FROM datasets";
 
 }  // namespace
 
@@ -36,7 +36,7 @@ std::string DatasetStore::dataset_text(std::int64_t id, std::string* name) {
 }
 
 DatasetRow DatasetStore::row(std::int64_t id) {
-    return db_.row(std::string(kSelect) + " WHERE id = ?", id, NotFound::row("dataset", id), dataset_row);
+    return db_.row(std::string(kSelectDatasets) + " WHERE id = ?", id, NotFound::row("dataset", id), dataset_row);
 }
 
 void DatasetStore::remove(std::int64_t id) {
@@ -50,7 +50,7 @@ void DatasetStore::remove(std::int64_t id) {
 
 json DatasetStore::page(const PageRequest& page, const std::function<json(const DatasetRow&)>& to_json) {
     return db_.with([&](Database& db) {
-        return read_page(db, page, "datasets", kSelect, "id", [&](Statement& st) { return to_json(dataset_row(st)); });
+        return read_page(db, page, "datasets", kSelectDatasets, "id", [&](Statement& st) { return to_json(dataset_row(st)); });
     });
 }
 
