@@ -43,17 +43,29 @@ public:
 private:
     // Calls visit(grain, cell, rho) for every cell a grain reaches into, with the farthest
     // radius rho (m) its surface reaches within the cell; cells row-major (iz * n_theta + it).
+    // Grains whose outermost radius (centre's distance from the axis + radius) is below
+    // `inner_m` are not visited (m; a negative value visits all).
     template <class Visit>
-    void for_each_reach(const World& world, double z_bottom, double z_top, Visit&& visit) const;
-    // Cell index in [0, n_theta) of an unwrapped angular index.
-    int wrap(int k) const { return ((k % n_theta_) + n_theta_) % n_theta_; }
+    void for_each_reach(const World& world, double z_bottom, double z_top, double inner_m, Visit&& visit) const;
+    // Collects reaches_ and rho_ for the grains that reach out to `inner_m` or beyond.
+    void collect_reaches(const World& world, double z_bottom, double z_top, double inner_m);
+    // Cell index in [0, n_theta) of an unwrapped angular index. A grain's cells lie within
+    // about a turn of its centre's angle in [-pi, pi], so one add or subtract does; the
+    // integer division (a tenth of the boundary's time) is left for the rounding extremes.
+    int wrap(int k) const {
+        if (k >= 0 && k < n_theta_) return k;
+        if (k < 0 && k >= -n_theta_) return k + n_theta_;
+        if (k >= n_theta_ && k < 2 * n_theta_) return k - n_theta_;
+        return ((k % n_theta_) + n_theta_) % n_theta_;
+    }
     // Per cell the farthest radius any grain reaches (m); 0 where none does.
     std::vector<double> envelope(const World& world, double z_bottom, double z_top) const;
 
     struct Reach {
         int grain;
-        std::size_t cell;
-        double rho;  // m
+        int around;        // angular index of the cell, in [0, n_theta)
+        std::size_t cell;  // iz n_theta + around
+        double rho;        // m
     };
 
     int first_ = 0, count_ = 0;
@@ -66,6 +78,12 @@ private:
     // sum of the sharing weights.
     std::vector<Reach> reaches_;
     std::vector<double> rho_, weight_sum_;
+    // Interior grains: a grain whose outermost radius is below every cell's envelope by more
+    // than the sharing depth neither sets an envelope nor shares a force, so apply_pressure
+    // skips grains below `inner_m_` (m), set from the previous call's lowest envelope with
+    // room for the grains' motion between calls, and checks the premise on the new envelope
+    // (else it visits every grain): the forces are the bits of a visit of every grain.
+    double inner_m_ = -1.0;
 };
 
 }  // namespace triax::boundary

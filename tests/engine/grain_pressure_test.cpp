@@ -103,3 +103,40 @@ TEST_CASE("grain pressure: the enclosed volume is the envelope's", "[engine][gra
     const double v2 = gp.enclosed_volume(rings.world, 0.0, rings.height());
     CHECK(v2 / v == Approx(std::pow((rings.R + 1e-3) / rings.R, 2)).epsilon(0.01));
 }
+
+TEST_CASE("grain pressure: skipping the interior grains gives the forces of a visit of every grain",
+          "[engine][grain_pressure]") {
+    Rings rings(8);
+    // Interior spheres between the axis and the rings, away from the axis sphere.
+    for (int k = 0; k < 6; ++k) {
+        const double th = 2.0 * test::kPi * k / 6.0;
+        rings.world.add_sphere(Vec3(0.012 * std::cos(th), 0.012 * std::sin(th), 0.004 + 0.005 * k), rings.a, 2650.0);
+    }
+    const int count = static_cast<int>(rings.world.particles().position.size());
+    const int interior = rings.count();  // the first interior sphere, at angle 0 and z = 4 mm
+    const double p = 80e3;
+    auto forces_of_a_fresh_boundary = [&](double* total) {
+        boundary::GrainPressure fresh(0, count, rings.R, rings.height(), rings.a);  // visits every grain
+        *total = fresh.apply_pressure(rings.world, p, 0.0, rings.height());
+        return rings.world.particles().external_force;
+    };
+    boundary::GrainPressure reused(0, count, rings.R, rings.height(), rings.a);
+    reused.apply_pressure(rings.world, p, 0.0, rings.height());  // sets the interior bound
+    auto& x = rings.world.particles().position;
+    const auto& f = rings.world.particles().external_force;
+    for (int step = 0; step < 2; ++step) {
+        // Step 0: the grains stay; step 1: the ring sphere in front of the first interior one
+        // (bottom row, angle 0) moves to the axis, so the envelope there drops below the bound
+        // of the previous call, the interior sphere becomes the outermost in those cells, and
+        // every grain must be visited.
+        if (step == 1) x[0] = Vec3(0.0, 0.0, x[0].z());
+        const double total = reused.apply_pressure(rings.world, p, 0.0, rings.height());
+        const auto skipped = f;
+        double fresh_total = 0.0;
+        const auto all = forces_of_a_fresh_boundary(&fresh_total);
+        CHECK(total == fresh_total);
+        for (int q = 0; q < count; ++q) CHECK((skipped[q].array() == all[q].array()).all());
+        if (step == 0) CHECK(all[interior].norm() == 0.0);
+        else CHECK(all[interior].norm() > 0.0);
+    }
+}
