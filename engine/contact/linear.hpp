@@ -34,6 +34,10 @@
 namespace triax {
 
 struct LinearContact {
+    // The contact pass runs this law's plain frictional slots (unbonded, no dashpot, no
+    // rolling resistance) four at a time (engine/core/step/frictional_lanes.hpp).
+    static constexpr bool kRunsFrictionalLanes = true;
+
     struct Params {
         double kn, ks, friction, damping_ratio, rolling_friction, rolling_stiffness_factor, bond_friction,
             bond_rolling_friction;

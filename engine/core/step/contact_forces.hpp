@@ -13,11 +13,13 @@
 // History, Outcome and evaluate<kRolling, kStateEnergy>(params, kinematics, history).
 #include "engine/contact/contact_store.hpp"
 #include "engine/core/particle_arrays.hpp"
+#include "engine/core/step/frictional_lanes.hpp"
 #include "engine/core/step/step_blocks.hpp"
 #include "engine/energy/step_sums.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace triax::step {
@@ -80,12 +82,38 @@ struct ContactForces {
         }
         for (int e = 0; e < n_opened; ++e) open_slot(c, pa, begin + opened[e]);
         ContactSums sums;
-        for (int e = 0; e < n_touching; ++e)
+        int e = 0;
+        if constexpr (!kRolling && uses_frictional_lanes()) {
+            // Four touching slots at a time through the lanes when all four are plain
+            // frictional contacts, else through the scalar path; either way the same bits,
+            // and the outcomes are added in slot order.
+            for (; e + kLaneCount <= n_touching; e += kLaneCount) {
+                long k[kLaneCount];
+                for (int l = 0; l < kLaneCount; ++l) k[l] = begin + touching[e + l];
+                LinearContact::Outcome o[kLaneCount];
+                if (frictional_lanes(c, pa, params.data(), dt, k, kStateEnergy, o))
+                    for (int l = 0; l < kLaneCount; ++l) sums.add(o[l]);
+                else
+                    for (int l = 0; l < kLaneCount; ++l)
+                        sums.add(touching_slot<kRolling, kStateEnergy>(c, pa, params, dt, k[l]));
+            }
+        }
+        for (; e < n_touching; ++e)
             sums.add(touching_slot<kRolling, kStateEnergy>(c, pa, params, dt, begin + touching[e]));
         return sums;
     }
 
 private:
+    // The linear law runs its plain frictional slots through frictional_lanes.hpp unless the
+    // evaluator says otherwise (kRunsFrictionalLanes = false: the scalar path only).
+    static constexpr bool uses_frictional_lanes() {
+        if constexpr (std::is_same_v<typename Evaluator::Params, LinearContact::Params> &&
+                      requires { Evaluator::kRunsFrictionalLanes; })
+            return Evaluator::kRunsFrictionalLanes;
+        else
+            return false;
+    }
+
     // A slot that was active and no longer touches: history cleared, zero force. The
     // plastic overlap (crushing) survives while the spheres still overlap geometrically
     // (the contact was relaxed, not separated).

@@ -1,0 +1,155 @@
+#include "engine/core/step/frictional_lanes.hpp"
+
+namespace triax::step {
+
+namespace {
+
+// Four doubles and the mask of a comparison (all ones where true), as GCC/Clang vector
+// extensions: AVX registers in the avx2 clone below, pairs of SSE2 registers in the default.
+typedef double Lanes __attribute__((vector_size(32)));
+typedef long long Mask __attribute__((vector_size(32)));
+
+struct Vec3Lanes {
+    Lanes x, y, z;
+};
+
+inline Lanes broadcast(double v) { return Lanes{v, v, v, v}; }
+inline Vec3Lanes operator+(const Vec3Lanes& a, const Vec3Lanes& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3Lanes operator-(const Vec3Lanes& a, const Vec3Lanes& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3Lanes operator-(const Vec3Lanes& a) { return {-a.x, -a.y, -a.z}; }
+inline Vec3Lanes operator*(const Vec3Lanes& a, Lanes s) { return {a.x * s, a.y * s, a.z * s}; }
+// Eigen's order for a 3-vector's dot product and squared norm: (x x + y y) + z z.
+inline Lanes dot(const Vec3Lanes& a, const Vec3Lanes& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
+inline Vec3Lanes cross(const Vec3Lanes& a, const Vec3Lanes& b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline Vec3Lanes select(Mask m, const Vec3Lanes& a, const Vec3Lanes& b) {
+    return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z};
+}
+// Correctly rounded per lane (sqrtsd or sqrtpd: the same bits).
+inline Lanes sqrt_lanes(Lanes v) {
+    Lanes r;
+    for (int l = 0; l < kLaneCount; ++l) r[l] = __builtin_sqrt(v[l]);
+    return r;
+}
+inline bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+
+inline Vec3Lanes gather(const std::vector<Vec3>& a, const int* idx) {
+    Vec3Lanes r;
+    for (int l = 0; l < kLaneCount; ++l) {
+        const Vec3& v = a[idx[l]];
+        r.x[l] = v.x();
+        r.y[l] = v.y();
+        r.z[l] = v.z();
+    }
+    return r;
+}
+inline Vec3 lane(const Vec3Lanes& v, int l) { return Vec3(v.x[l], v.y[l], v.z[l]); }
+
+}  // namespace
+
+__attribute__((target_clones("avx2", "default"))) bool frictional_lanes(ContactStore& c, const ParticleArrays& pa,
+                                                                        const LinearContact::Params* params,
+                                                                        double dt, const long* k,
+                                                                        bool state_energy,
+                                                                        LinearContact::Outcome* out) {
+    int i[kLaneCount], j[kLaneCount];
+    Lanes ri, rj, shift, kn, ks, mu;
+    for (int l = 0; l < kLaneCount; ++l) {
+        const LinearContact::Params& p = params[c.law[k[l]]];
+        if (c.bonded[k[l]] || p.damping_ratio > 0.0) return false;
+        i[l] = c.i[k[l]];
+        j[l] = c.j[k[l]];
+        ri[l] = pa.radius[i[l]];
+        rj[l] = pa.radius[j[l]];
+        shift[l] = c.reference_gap[k[l]] - c.plastic_overlap[k[l]];
+        kn[l] = p.kn;
+        ks[l] = p.ks;
+        mu[l] = p.friction;
+    }
+    const Lanes zero = broadcast(0.0);
+    // Kinematics at the contact point, the middle of the geometric overlap (touching_slot).
+    const Vec3Lanes xi = gather(pa.position, i), xj = gather(pa.position, j);
+    const Vec3Lanes d = xj - xi;
+    const Lanes dist = sqrt_lanes(dot(d, d));
+    const Vec3Lanes n{d.x / dist, d.y / dist, d.z / dist};
+    const Lanes geo_overlap = ri + rj - dist;
+    const Lanes overlap = geo_overlap + shift;
+    if (any(~(overlap > zero))) return false;  // a law without contact: the scalar path resets it
+    const Vec3Lanes xc = xi + n * (ri - 0.5 * geo_overlap);
+    const Vec3Lanes ai = xc - xi, aj = xc - xj;
+    const Vec3Lanes v_rel = (gather(pa.velocity, j) + cross(gather(pa.angular_velocity, j), aj)) -
+                            (gather(pa.velocity, i) + cross(gather(pa.angular_velocity, i), ai));
+    // The shear history turned into the new plane with its magnitude kept
+    // (LinearContact::rotate_into_plane): s itself when zero, zero when along n.
+    Vec3Lanes s;
+    for (int l = 0; l < kLaneCount; ++l) {
+        const Vec3& v = c.shear_force[k[l]];
+        s.x[l] = v.x();
+        s.y[l] = v.y();
+        s.z[l] = v.z();
+    }
+    const Lanes mag2 = dot(s, s);
+    const Vec3Lanes t = s - n * dot(n, s);
+    const Lanes t2 = dot(t, t);
+    const Vec3Lanes fs_rot = select(mag2 == zero, s, select(t2 == zero, Vec3Lanes{zero, zero, zero}, t * sqrt_lanes(mag2 / t2)));
+    // The law (LinearContact::evaluate, unbonded, no dashpot).
+    const Lanes vn = dot(v_rel, n);
+    const Vec3Lanes dus = (v_rel - n * vn) * broadcast(dt);
+    const Lanes fn_el = kn * overlap;
+    Vec3Lanes fs = fs_rot - dus * ks;
+    const Lanes limit = mu * fn_el;
+    const Lanes fs2 = dot(fs, fs);
+    // LinearContact::norm_above(fs2, limit), lane by lane: the sqrt only when some lane is
+    // not clearly below the limit.
+    constexpr double kBelow = 1.0 - 0x1p-48;
+    const Mask clearly_below = (limit > zero) & (fs2 < limit * limit * kBelow);
+    Lanes slip = zero;
+    bool slipped = false;
+    if (any(~clearly_below)) {
+        const Lanes mag = sqrt_lanes(fs2);
+        const Mask slides = ~clearly_below & (mag > limit);
+        if (any(slides)) {
+            slipped = true;
+            const Vec3Lanes fs_new = select(mag > zero, fs * (limit / mag), Vec3Lanes{zero, zero, zero});
+            const Lanes absorbed = -0.5 * dot(fs_rot + fs_new, dus);
+            const Lanes d_spring = ks > zero ? (dot(fs_new, fs_new) - dot(fs_rot, fs_rot)) / (2.0 * ks) : zero;
+            slip = slides ? zero + (absorbed - d_spring) : zero;
+            fs = select(slides, fs_new, fs);
+        }
+    }
+    // The springs' stored energy (evaluate's kStateEnergy), on the steps that book it.
+    Lanes strain = zero;
+    if (state_energy) {
+        const Lanes fs2_kept = dot(fs, fs);
+        strain = 0.5 * fn_el * fn_el / kn + (ks > zero ? 0.5 * fs2_kept / ks : zero);
+    }
+    const Lanes fn = fn_el + zero;  // fn_el + the absent dashpot's 0
+    const Vec3Lanes force = n * fn + fs;
+    const Vec3Lanes no_moment{zero, zero, zero};
+    const Vec3Lanes torque_i = cross(ai, -force) - no_moment;
+    const Vec3Lanes torque_j = cross(aj, force) + no_moment;
+    for (int l = 0; l < kLaneCount; ++l) {
+        const long kk = k[l];
+        c.normal_force[kk] = fn[l];
+        c.shear_force[kk] = lane(fs, l);
+        c.rolling_moment[kk].setZero();
+        c.overlap[kk] = overlap[l];
+        c.contact_point[kk] = lane(xc, l);
+        c.active[kk] = 1;
+        c.force_on_j[kk] = lane(force, l);
+        c.torque_on_i[kk] = lane(torque_i, l);
+        c.torque_on_j[kk] = lane(torque_j, l);
+        LinearContact::Outcome& o = out[l];  // as evaluate() leaves it: no bond, dashpot or break
+        o.force = c.force_on_j[kk];
+        o.moment.setZero();
+        o.strain = strain[l];
+        o.bond_strain = o.dashpot = o.bond_break = 0.0;
+        o.slip = slipped ? slip[l] : 0.0;
+        o.active = true;
+        o.broke_tension = o.broke_shear = false;
+    }
+    return true;
+}
+
+}  // namespace triax::step
