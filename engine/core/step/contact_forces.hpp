@@ -11,6 +11,8 @@
 //
 // An Evaluator (LinearContact, engine/contact/linear.hpp) provides Params, Kinematics,
 // History, Outcome and evaluate<kRolling, kStateEnergy>(params, kinematics, history).
+// The linear law's plain frictional slots also have a four-lane kernel
+// (frictional_lanes.hpp) that gives them the bits of the scalar path below.
 #include "engine/contact/contact_store.hpp"
 #include "engine/core/particle_arrays.hpp"
 #include "engine/core/step/frictional_lanes.hpp"
