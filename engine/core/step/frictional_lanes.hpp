@@ -10,7 +10,8 @@
 // -ffp-contract=off), so a slot gets the bits that ContactForces::touching_slot gives it and
 // trajectories do not depend on which path ran. Four independent slots in one instruction
 // stream shorten the time per slot: one slot's chain (sqrt, divisions, the rotation's
-// sqrt) no longer waits alone.
+// sqrt) no longer waits alone. The kernel is compiled for AVX2 and runs only on CPUs that
+// have it (frictional_lanes_available); elsewhere the scalar path runs, with the same bits.
 #include "engine/contact/contact_store.hpp"
 #include "engine/contact/linear.hpp"
 #include "engine/core/particle_arrays.hpp"
@@ -18,6 +19,9 @@
 namespace triax::step {
 
 constexpr int kLaneCount = 4;
+
+// Whether this CPU has AVX2 (checked once): frictional_lanes may be called only then.
+bool frictional_lanes_available();
 
 // Slots k[0..3] (distinct, touching by the screen): when all four are unbonded, their laws
 // have no dashpot and their effective overlaps are positive, writes the four slots as
