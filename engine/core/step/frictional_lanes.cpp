@@ -60,10 +60,8 @@ bool frictional_lanes_available() {
 }
 
 [[gnu::target("avx2")]] bool frictional_lanes(ContactStore& c, const ParticleArrays& pa,
-                                                                        const LinearContact::Params* params,
-                                                                        double dt, const long* k,
-                                                                        bool state_energy,
-                                                                        LinearContact::Outcome* out) {
+                                              const LinearContact::Params* params, double dt, const long* k,
+                                              bool state_energy, LinearContact::Outcome* out) {
     int i[kLaneCount], j[kLaneCount];
     Lanes ri, rj, shift, kn, ks, mu;
     for (int l = 0; l < kLaneCount; ++l) {
