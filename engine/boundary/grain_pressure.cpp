@@ -96,11 +96,14 @@ double GrainPressure::apply_pressure(World& world, double pressure_pa, double z_
     // envelope lies 1.5 sharing depths above that (their weights are then max(0, < -0.5) = 0
     // and they set no envelope), else every grain is visited.
     collect_reaches(world, z_bottom, z_top, inner_m_);
-    const double lowest = *std::min_element(rho_.begin(), rho_.end());
-    if (inner_m_ >= 0.0 && lowest < inner_m_ + 1.5 * share_depth_) collect_reaches(world, z_bottom, z_top, -1.0);
+    double lowest = *std::min_element(rho_.begin(), rho_.end());
+    if (inner_m_ >= 0.0 && lowest < inner_m_ + 1.5 * share_depth_) {
+        collect_reaches(world, z_bottom, z_top, -1.0);
+        lowest = *std::min_element(rho_.begin(), rho_.end());
+    }
     // The next call's bound: 1.5 sharing depths of room for the grains' motion between calls
     // (a few um in 10 DEM steps against share_depth_ = 0.05 cell).
-    inner_m_ = *std::min_element(rho_.begin(), rho_.end()) - 3.0 * share_depth_;
+    inner_m_ = lowest - 3.0 * share_depth_;
     // The grains within `share_depth_` of a cell's envelope share its force, weighted
     // 1 - depth / share_depth_: the force moves continuously from grain to grain as they
     // move, instead of jumping to whichever is outermost by a hair (which kept consolidation

@@ -84,9 +84,9 @@ struct LinearContact {
     // Only near cases and s <= 0 take the sqrt. Most contacts stick and most bonds hold, so
     // the sqrt (long latency, on the force's critical path) is mostly skipped; the result,
     // and so the trajectory, is bitwise the one of the plain comparison.
+    static constexpr double kClearlyBelow = 1.0 - 0x1p-48;
     static bool clearly_below(double x2, double s) {
-        constexpr double kBelow = 1.0 - 0x1p-48;
-        return s > 0.0 && x2 < s * s * kBelow;
+        return s > 0.0 && x2 < s * s * kClearlyBelow;
     }
     static bool norm_at_least(double x2, double s) { return !clearly_below(x2, s) && std::sqrt(x2) >= s; }
     static bool norm_above(double x2, double s) { return !clearly_below(x2, s) && std::sqrt(x2) > s; }

@@ -40,7 +40,8 @@ TRIAX_LANES Lanes sqrt_lanes(Lanes v) {
 }
 TRIAX_LANES bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
-TRIAX_LANES Vec3Lanes gather(const std::vector<Vec3>& a, const int* idx) {
+template <class Index>
+TRIAX_LANES Vec3Lanes gather(const std::vector<Vec3>& a, const Index* idx) {
     Vec3Lanes r;
     for (int l = 0; l < kLaneCount; ++l) {
         const Vec3& v = a[idx[l]];
@@ -77,6 +78,7 @@ bool frictional_lanes_available() {
         mu[l] = p.friction;
     }
     const Lanes zero = broadcast(0.0);
+    const Vec3Lanes zero3{zero, zero, zero};
     // Kinematics at the contact point, the middle of the geometric overlap (touching_slot).
     const Vec3Lanes xi = gather(pa.position, i), xj = gather(pa.position, j);
     const Vec3Lanes d = xj - xi;
@@ -91,17 +93,11 @@ bool frictional_lanes_available() {
                             (gather(pa.velocity, i) + cross(gather(pa.angular_velocity, i), ai));
     // The shear history turned into the new plane with its magnitude kept
     // (LinearContact::rotate_into_plane): s itself when zero, zero when along n.
-    Vec3Lanes s;
-    for (int l = 0; l < kLaneCount; ++l) {
-        const Vec3& v = c.shear_force[k[l]];
-        s.x[l] = v.x();
-        s.y[l] = v.y();
-        s.z[l] = v.z();
-    }
+    const Vec3Lanes s = gather(c.shear_force, k);
     const Lanes mag2 = dot(s, s);
     const Vec3Lanes t = s - n * dot(n, s);
     const Lanes t2 = dot(t, t);
-    const Vec3Lanes fs_rot = select(mag2 == zero, s, select(t2 == zero, Vec3Lanes{zero, zero, zero}, t * sqrt_lanes(mag2 / t2)));
+    const Vec3Lanes fs_rot = select(mag2 == zero, s, select(t2 == zero, zero3, t * sqrt_lanes(mag2 / t2)));
     // The law (LinearContact::evaluate, unbonded, no dashpot).
     const Lanes vn = dot(v_rel, n);
     const Vec3Lanes dus = (v_rel - n * vn) * broadcast(dt);
@@ -111,8 +107,7 @@ bool frictional_lanes_available() {
     const Lanes fs2 = dot(fs, fs);
     // LinearContact::norm_above(fs2, limit), lane by lane: the sqrt only when some lane is
     // not clearly below the limit.
-    constexpr double kBelow = 1.0 - 0x1p-48;
-    const Mask clearly_below = (limit > zero) & (fs2 < limit * limit * kBelow);
+    const Mask clearly_below = (limit > zero) & (fs2 < limit * limit * LinearContact::kClearlyBelow);
     Lanes slip = zero;
     bool slipped = false;
     if (any(~clearly_below)) {
@@ -120,7 +115,7 @@ bool frictional_lanes_available() {
         const Mask slides = ~clearly_below & (mag > limit);
         if (any(slides)) {
             slipped = true;
-            const Vec3Lanes fs_new = select(mag > zero, fs * (limit / mag), Vec3Lanes{zero, zero, zero});
+            const Vec3Lanes fs_new = select(mag > zero, fs * (limit / mag), zero3);
             const Lanes absorbed = -0.5 * dot(fs_rot + fs_new, dus);
             const Lanes d_spring = ks > zero ? (dot(fs_new, fs_new) - dot(fs_rot, fs_rot)) / (2.0 * ks) : zero;
             slip = slides ? zero + (absorbed - d_spring) : zero;
@@ -135,9 +130,8 @@ bool frictional_lanes_available() {
     }
     const Lanes fn = fn_el + zero;  // fn_el + the absent dashpot's 0
     const Vec3Lanes force = n * fn + fs;
-    const Vec3Lanes no_moment{zero, zero, zero};
-    const Vec3Lanes torque_i = cross(ai, -force) - no_moment;
-    const Vec3Lanes torque_j = cross(aj, force) + no_moment;
+    const Vec3Lanes torque_i = cross(ai, -force) - zero3;  // minus the absent moment
+    const Vec3Lanes torque_j = cross(aj, force) + zero3;
     for (int l = 0; l < kLaneCount; ++l) {
         const long kk = k[l];
         c.normal_force[kk] = fn[l];
