@@ -24,6 +24,7 @@
 #include "engine/energy/step_sums.hpp"
 #include "engine/integrate/central_difference.hpp"
 #include "engine/integrate/rigid_clump.hpp"
+#include "engine/integrate/sphere_lanes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -116,7 +117,31 @@ void World::Step::body_block(long b) {
                                      has_domain ? w.domain_->second : Vec3::Zero()};
     BodySums s;
     const long end = std::min(static_cast<long>(pa.size()), (b + 1) * step::kParticleBlock);
-    for (long p = b * step::kParticleBlock; p < end; ++p) {
+    long p = b * step::kParticleBlock;
+    // Four particles at a time across SIMD lanes where the CPU has them (the same bits).
+    if (simd::avx2_available()) {
+        for (; p + simd::kLaneCount <= end; p += simd::kLaneCount) {
+            Vec3 f[simd::kLaneCount], t[simd::kLaneCount];
+            double kt[simd::kLaneCount], kr[simd::kLaneCount];
+            for (int l = 0; l < simd::kLaneCount; ++l) {
+                const step::GatheredForce g = gather(p + l, pa.radius[p + l]);
+                w.stiffness_sum_[p + l] = kt[l] = g.stiffness;
+                w.rot_stiffness_sum_[p + l] = kr[l] = g.rot_stiffness;
+                f[l] = g.force;
+                t[l] = g.torque;
+            }
+            if (integrate_sphere_lanes(integrate, p, f, t, kt, kr, pa, w.inertial_mass_, w.inertial_inertia_, s)) {
+                for (int l = 0; l < simd::kLaneCount; ++l)
+                    s.max_disp2 = std::max(s.max_disp2, (pa.position[p + l] - w.rebuild_position_[p + l]).squaredNorm());
+            } else {
+                for (int l = 0; l < simd::kLaneCount; ++l)
+                    if (integrate(p + l, f[l], t[l], kt[l], kr[l], pa, w.inertial_mass_, w.inertial_inertia_, s))
+                        s.max_disp2 =
+                            std::max(s.max_disp2, (pa.position[p + l] - w.rebuild_position_[p + l]).squaredNorm());
+            }
+        }
+    }
+    for (; p < end; ++p) {
         const step::GatheredForce g = gather(p, pa.radius[p]);
         w.stiffness_sum_[p] = g.stiffness;
         w.rot_stiffness_sum_[p] = g.rot_stiffness;

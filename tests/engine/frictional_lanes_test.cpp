@@ -103,7 +103,7 @@ LanesPile lanes_pile(unsigned seed) {
 
 TEST_CASE("frictional lanes: the contact pass writes the scalar path's bits", "[engine][contact][lanes]") {
     // Without AVX2 both passes run the scalar path (and must still agree).
-    if (!step::frictional_lanes_available()) WARN("this CPU has no AVX2: the lanes are not run");
+    if (!simd::avx2_available()) WARN("this CPU has no AVX2: the lanes are not run");
     for (const unsigned seed : {1u, 2u, 3u}) {
         LanesPile lanes = lanes_pile(seed);
         LanesPile scalar = lanes;
@@ -137,7 +137,7 @@ TEST_CASE("frictional lanes: the contact pass writes the scalar path's bits", "[
 
 TEST_CASE("frictional lanes: plain frictional slots go through, bonded and damped ones do not",
           "[engine][contact][lanes]") {
-    if (!step::frictional_lanes_available()) {
+    if (!simd::avx2_available()) {
         WARN("this CPU has no AVX2: the contact pass runs the scalar path only, the kernel is not called");
         return;
     }

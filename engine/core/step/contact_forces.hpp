@@ -89,7 +89,7 @@ struct ContactForces {
             // Four touching slots at a time through the lanes when all four are plain
             // frictional contacts, else through the scalar path; either way the same bits,
             // and the outcomes are added in slot order.
-            const int lane_end = frictional_lanes_available() ? n_touching : 0;
+            const int lane_end = simd::avx2_available() ? n_touching : 0;
             for (; e + kLaneCount <= lane_end; e += kLaneCount) {
                 long k[kLaneCount];
                 for (int l = 0; l < kLaneCount; ++l) k[l] = begin + touching[e + l];

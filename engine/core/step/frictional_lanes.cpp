@@ -1,64 +1,10 @@
 #include "engine/core/step/frictional_lanes.hpp"
 
+#include "engine/core/simd/lanes.hpp"
+
 namespace triax::step {
 
-namespace {
-
-// Everything here is compiled for AVX2 and runs only where the CPU has it
-// (frictional_lanes_available): lowered to SSE2 pairs, the same kernel ran 0.70x the
-// scalar law's speed, so CPUs without AVX2 take the scalar path. The helpers carry the
-// same target as the kernel: their 32-byte vector arguments then pass in AVX registers.
-#define TRIAX_LANES [[gnu::target("avx2"), gnu::always_inline]] inline
-
-// Four doubles and the mask of a comparison (all ones where true), as GCC/Clang vector
-// extensions: one AVX register each.
-typedef double Lanes __attribute__((vector_size(32)));
-typedef long long Mask __attribute__((vector_size(32)));
-
-struct Vec3Lanes {
-    Lanes x, y, z;
-};
-
-TRIAX_LANES Lanes broadcast(double v) { return Lanes{v, v, v, v}; }
-TRIAX_LANES Vec3Lanes operator+(const Vec3Lanes& a, const Vec3Lanes& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-TRIAX_LANES Vec3Lanes operator-(const Vec3Lanes& a, const Vec3Lanes& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-TRIAX_LANES Vec3Lanes operator-(const Vec3Lanes& a) { return {-a.x, -a.y, -a.z}; }
-TRIAX_LANES Vec3Lanes operator*(const Vec3Lanes& a, Lanes s) { return {a.x * s, a.y * s, a.z * s}; }
-// Eigen's order for a 3-vector's dot product and squared norm: (x x + y y) + z z.
-TRIAX_LANES Lanes dot(const Vec3Lanes& a, const Vec3Lanes& b) { return (a.x * b.x + a.y * b.y) + a.z * b.z; }
-TRIAX_LANES Vec3Lanes cross(const Vec3Lanes& a, const Vec3Lanes& b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-TRIAX_LANES Vec3Lanes select(Mask m, const Vec3Lanes& a, const Vec3Lanes& b) {
-    return {m ? a.x : b.x, m ? a.y : b.y, m ? a.z : b.z};
-}
-// Correctly rounded per lane (vsqrtsd or vsqrtpd: the same bits).
-TRIAX_LANES Lanes sqrt_lanes(Lanes v) {
-    Lanes r;
-    for (int l = 0; l < kLaneCount; ++l) r[l] = __builtin_sqrt(v[l]);
-    return r;
-}
-TRIAX_LANES bool any(Mask m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
-
-template <class Index>
-TRIAX_LANES Vec3Lanes gather(const std::vector<Vec3>& a, const Index* idx) {
-    Vec3Lanes r;
-    for (int l = 0; l < kLaneCount; ++l) {
-        const Vec3& v = a[idx[l]];
-        r.x[l] = v.x();
-        r.y[l] = v.y();
-        r.z[l] = v.z();
-    }
-    return r;
-}
-TRIAX_LANES Vec3 lane(const Vec3Lanes& v, int l) { return Vec3(v.x[l], v.y[l], v.z[l]); }
-
-}  // namespace
-
-bool frictional_lanes_available() {
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    return avx2;
-}
+using namespace simd;
 
 [[gnu::target("avx2")]] bool frictional_lanes(ContactStore& c, const ParticleArrays& pa,
                                               const LinearContact::Params* params, double dt, const long* k,

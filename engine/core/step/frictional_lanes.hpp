@@ -11,23 +11,21 @@
 // trajectories do not depend on which path ran. Four independent slots in one instruction
 // stream shorten the time per slot: one slot's chain (sqrt, divisions, the rotation's
 // sqrt) no longer waits alone. The kernel is compiled for AVX2 and runs only on CPUs that
-// have it (frictional_lanes_available); elsewhere the scalar path runs, with the same bits.
+// have it (simd::avx2_available); elsewhere the scalar path runs, with the same bits.
 #include "engine/contact/contact_store.hpp"
 #include "engine/contact/linear.hpp"
 #include "engine/core/particle_arrays.hpp"
+#include "engine/core/simd/avx2.hpp"
 
 namespace triax::step {
 
-constexpr int kLaneCount = 4;
+using simd::kLaneCount;
 
-// Whether this CPU has AVX2 (checked once): frictional_lanes may be called only then.
-bool frictional_lanes_available();
-
-// Slots k[0..3] (distinct, touching by the screen): when all four are unbonded, their laws
-// have no dashpot and their effective overlaps are positive, writes the four slots as
-// touching_slot would and their outcomes into out[0..3] (with the springs' stored energy when
-// `state_energy`), and returns true; otherwise writes nothing and returns false (the caller
-// runs the four through the scalar path).
+// Call only where simd::avx2_available(). Slots k[0..3] (distinct, touching by the screen):
+// when all four are unbonded, their laws have no dashpot and their effective overlaps are
+// positive, writes the four slots as touching_slot would and their outcomes into out[0..3]
+// (with the springs' stored energy when `state_energy`), and returns true; otherwise writes
+// nothing and returns false (the caller runs the four through the scalar path).
 bool frictional_lanes(ContactStore& c, const ParticleArrays& pa, const LinearContact::Params* params, double dt,
                       const long* k, bool state_energy, LinearContact::Outcome* out);
 
