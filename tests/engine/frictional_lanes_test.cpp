@@ -153,19 +153,21 @@ TEST_CASE("frictional lanes: plain frictional slots go through, bonded and dampe
     }
     REQUIRE(plain.size() >= 4);
     REQUIRE(!bonded.empty());
-    LinearContact::Outcome out[step::kLaneCount];
+    ContactSums sums;
     long four[step::kLaneCount] = {plain[0], plain[1], plain[2], plain[3]};
-    CHECK(step::frictional_lanes(p.c, p.pa, p.params.data(), 1e-6, four, false, out));
+    CHECK(step::frictional_lanes(p.c, p.pa, p.params.data(), 1e-6, four, true, sums));
+    CHECK(sums.strain > 0.0);  // the four springs' stored energy
     for (int l = 0; l < step::kLaneCount; ++l) {
-        CHECK(out[l].active);
         CHECK(p.c.active[four[l]] == 1);
         CHECK(p.c.normal_force[four[l]] > 0.0);
     }
     four[2] = bonded[0];
     const ContactStore before = p.c;
-    CHECK_FALSE(step::frictional_lanes(p.c, p.pa, p.params.data(), 1e-6, four, false, out));
+    const ContactSums sums_before = sums;
+    CHECK_FALSE(step::frictional_lanes(p.c, p.pa, p.params.data(), 1e-6, four, true, sums));
     CHECK(same_bits(p.c.force_on_j, before.force_on_j));  // nothing written
+    CHECK(sums.strain == sums_before.strain);
     p.c.law[bonded[0]] = 1;
     p.c.bonded[bonded[0]] = 0;  // unbonded, but its law has a dashpot
-    CHECK_FALSE(step::frictional_lanes(p.c, p.pa, p.params.data(), 1e-6, four, false, out));
+    CHECK_FALSE(step::frictional_lanes(p.c, p.pa, p.params.data(), 1e-6, four, false, sums));
 }

@@ -93,10 +93,7 @@ struct ContactForces {
             for (; e + kLaneCount <= lane_end; e += kLaneCount) {
                 long k[kLaneCount];
                 for (int l = 0; l < kLaneCount; ++l) k[l] = begin + touching[e + l];
-                LinearContact::Outcome o[kLaneCount];
-                if (frictional_lanes(c, pa, params.data(), dt, k, kStateEnergy, o))
-                    for (int l = 0; l < kLaneCount; ++l) sums.add(o[l]);
-                else
+                if (!frictional_lanes(c, pa, params.data(), dt, k, kStateEnergy, sums))
                     for (int l = 0; l < kLaneCount; ++l)
                         sums.add(touching_slot<kRolling, kStateEnergy>(c, pa, params, dt, k[l]));
             }

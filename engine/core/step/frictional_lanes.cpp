@@ -8,7 +8,7 @@ using namespace simd;
 
 [[gnu::target("avx2")]] bool frictional_lanes(ContactStore& c, const ParticleArrays& pa,
                                               const LinearContact::Params* params, double dt, const long* k,
-                                              bool state_energy, LinearContact::Outcome* out) {
+                                              bool state_energy, ContactSums& sums) {
     int i[kLaneCount], j[kLaneCount];
     Lanes ri, rj, shift, kn, ks, mu;
     for (int l = 0; l < kLaneCount; ++l) {
@@ -89,14 +89,13 @@ using namespace simd;
         c.force_on_j[kk] = lane(force, l);
         c.torque_on_i[kk] = lane(torque_i, l);
         c.torque_on_j[kk] = lane(torque_j, l);
-        LinearContact::Outcome& o = out[l];  // as evaluate() leaves it: no bond, dashpot or break
-        o.force = c.force_on_j[kk];
-        o.moment.setZero();
-        o.strain = strain[l];
-        o.bond_strain = o.dashpot = o.bond_break = 0.0;
-        o.slip = slipped ? slip[l] : 0.0;
-        o.active = true;
-        o.broke_tension = o.broke_shear = false;
+    }
+    // The outcomes' energies added in slot order, as ContactSums::add would add them. Only
+    // the strain (on the steps that book it) and the slip can be non-zero; the terms left
+    // out are +0, and adding +0 to a sum that started at +0 changes no bit.
+    for (int l = 0; l < kLaneCount; ++l) {
+        if (state_energy) sums.strain += strain[l];
+        if (slipped) sums.slip += slip[l];
     }
     return true;
 }

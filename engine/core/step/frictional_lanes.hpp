@@ -16,17 +16,19 @@
 #include "engine/contact/linear.hpp"
 #include "engine/core/particle_arrays.hpp"
 #include "engine/core/simd/avx2.hpp"
+#include "engine/energy/step_sums.hpp"
 
 namespace triax::step {
 
 using simd::kLaneCount;
 
-// Call only where simd::avx2_available(). Slots k[0..3] (distinct, touching by the screen):
-// when all four are unbonded, their laws have no dashpot and their effective overlaps are
-// positive, writes the four slots as touching_slot would and their outcomes into out[0..3]
-// (with the springs' stored energy when `state_energy`), and returns true; otherwise writes
-// nothing and returns false (the caller runs the four through the scalar path).
+// Call only where simd::avx2_available(). Slots k[0..3] (distinct, touching by the screen,
+// in slot order): when all four are unbonded, their laws have no dashpot and their effective
+// overlaps are positive, writes the four slots as touching_slot would, adds their energies
+// (slip, and the springs' stored energy when `state_energy`) to `sums` as four
+// ContactSums::add calls would, and returns true; otherwise writes nothing and returns false
+// (the caller runs the four through the scalar path).
 bool frictional_lanes(ContactStore& c, const ParticleArrays& pa, const LinearContact::Params* params, double dt,
-                      const long* k, bool state_energy, LinearContact::Outcome* out);
+                      const long* k, bool state_energy, ContactSums& sums);
 
 }  // namespace triax::step
