@@ -82,9 +82,9 @@ struct SphereIntegrator {
     // "Moved more than its radius in one step", without a sqrt per particle: |v| dt is far
     // below the radius when |v|^2 dt^2 < r^2 (1 - 2^-40) (rounding: < 1e-15 relative), and
     // then the exact check cannot fire; non-finite values fail the screen and are checked.
+    static constexpr double kStableBelow = 1.0 - 0x1p-40;
     [[gnu::always_inline]] inline void check_step_length(long p, const Vec3& v_new, const Vec3& w_new, double r,
                                                          BodySums& s) const {
-        constexpr double kStableBelow = 1.0 - 0x1p-40;
         const double v2 = v_new.squaredNorm();
         if (s.unstable < 0 && !(v2 * (dt * dt) < r * r * kStableBelow && std::isfinite(w_new.squaredNorm()))) {
             const double step_len = std::sqrt(v2) * dt;

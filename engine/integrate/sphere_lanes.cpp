@@ -66,9 +66,8 @@ TRIAX_LANES Vec3Lanes local_damping_lanes(const Vec3Lanes& f, const Vec3Lanes& v
     }
     // The checks: SphereIntegrator::check_step_length's screen across the lanes; where a lane
     // fails it, or a domain box is set, the scalar checks run particle by particle.
-    constexpr double kStableBelow = 1.0 - 0x1p-40;
     const Lanes r = load(&pa.radius[p]);
-    const Mask stable = (v2 * (dt * dt) < r * r * kStableBelow) & (w2 - w2 == broadcast(0.0));
+    const Mask stable = (v2 * (dt * dt) < r * r * SphereIntegrator::kStableBelow) & (w2 - w2 == broadcast(0.0));
     if (in.has_domain || any(~stable)) {
         for (int l = 0; l < kLaneCount; ++l) {
             const long q = p + l;
