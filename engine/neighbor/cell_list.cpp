@@ -47,10 +47,11 @@ void CellList::build(const std::vector<Vec3>& position, const std::vector<double
         ++cell_start_[cell_of_[p] + 1];
     }
     for (long c = 0; c < n_cells; ++c) cell_start_[c + 1] += cell_start_[c];
-    cell_members_.resize(n);
+    // Each cell's members (ascending ids) as one contiguous run of centre, radius, id, clump.
+    members_.resize(n);
     {
         std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
-        for (int p = 0; p < n; ++p) cell_members_[fill[cell_of_[p]]++] = p;
+        for (int p = 0; p < n; ++p) members_[fill[cell_of_[p]]++] = {position[p], radius[p], p, clump_id[p]};
     }
 
     // Small lists are built by one thread (same result, no wake-up cost).
@@ -68,13 +69,14 @@ void CellList::build(const std::vector<Vec3>& position, const std::vector<double
         auto& lj = thread_j_[t];
         li.clear();
         lj.clear();
-        std::vector<int> found;
+        std::vector<int> found(n);  // a particle's candidates: at most every other particle
         for (int p = p_begin; p < p_end; ++p) {
             const long c = cell_of_[p];
             const long cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
-            found.clear();
+            int n_found = 0;
             const Vec3 xp = position[p];
             const double rp = radius[p];
+            const int clump_p = clump_id[p];
             for (long dz = -1; dz <= 1; ++dz) {
                 const long z = cz + dz;
                 if (z < 0 || z >= nz) continue;
@@ -85,20 +87,24 @@ void CellList::build(const std::vector<Vec3>& position, const std::vector<double
                         const long x = cx + dx;
                         if (x < 0 || x >= nx) continue;
                         const long cc = (z * ny + y) * nx + x;
+                        // Branch-free: whether a member is a candidate (a later id, within
+                        // reach, not of p's clump) is random from member to member. Each is
+                        // written and kept only when it is one.
                         for (int k = cell_start_[cc]; k < cell_start_[cc + 1]; ++k) {
-                            const int q = cell_members_[k];
-                            if (q <= p) continue;
-                            if (clump_id[p] >= 0 && clump_id[p] == clump_id[q]) continue;
-                            const double reach = rp + radius[q] + skin;
-                            if ((position[q] - xp).squaredNorm() < reach * reach) found.push_back(q);
+                            const CellMember& m = members_[k];
+                            const double reach = rp + m.radius + skin;
+                            const bool candidate = (m.id > p) & ((m.centre - xp).squaredNorm() < reach * reach) &
+                                                   !(clump_p >= 0 && clump_p == m.clump);
+                            found[n_found] = m.id;
+                            n_found += candidate;
                         }
                     }
                 }
             }
-            std::sort(found.begin(), found.end());
-            for (int q : found) {
+            std::sort(found.begin(), found.begin() + n_found);
+            for (int e = 0; e < n_found; ++e) {
                 li.push_back(p);
-                lj.push_back(q);
+                lj.push_back(found[e]);
             }
         }
     }

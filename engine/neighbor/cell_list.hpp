@@ -3,7 +3,8 @@
 // surfaces are closer than `skin`, sorted by (i, j); the World keeps that list until
 // some particle (or wall) has moved more than skin/2 since the build, so no contact can
 // be missed in between. Cost is linear in N: counting sort into cells of edge
-// 2 r_max + skin, then a half-shell (13 + own cell) search per particle.
+// 2 r_max + skin, then per particle a search of its own and the 26 neighbouring cells for
+// later ids within reach (each cell's members stored contiguously).
 #include "engine/core/types.hpp"
 
 #include <cstdint>
@@ -20,8 +21,13 @@ public:
                std::vector<int>& pair_i, std::vector<int>& pair_j);
 
 private:
-    std::vector<int> cell_start_;   // CSR offsets, size n_cells + 1
-    std::vector<int> cell_members_; // particle ids grouped by cell
+    struct CellMember {
+        Vec3 centre;  // m
+        double radius;  // m
+        int id, clump;
+    };
+    std::vector<int> cell_start_;          // CSR offsets, size n_cells + 1
+    std::vector<CellMember> members_;      // particles grouped by cell, ascending ids in each
     std::vector<std::int64_t> cell_of_;
     std::vector<std::vector<int>> thread_i_, thread_j_;
 };
