@@ -116,14 +116,18 @@ void World::Step::body_block(long b) {
                                      has_domain ? w.domain_->first : Vec3::Zero(),
                                      has_domain ? w.domain_->second : Vec3::Zero()};
     BodySums s;
+    auto track_drift = [&](long q) {
+        s.max_disp2 = std::max(s.max_disp2, (pa.position[q] - w.rebuild_position_[q]).squaredNorm());
+    };
     const long end = std::min(static_cast<long>(pa.size()), (b + 1) * step::kParticleBlock);
     long p = b * step::kParticleBlock;
     // Four particles at a time across SIMD lanes where the CPU has them (the same bits).
     if (simd::avx2_available()) {
-        for (; p + simd::kLaneCount <= end; p += simd::kLaneCount) {
-            Vec3 f[simd::kLaneCount], t[simd::kLaneCount];
-            double kt[simd::kLaneCount], kr[simd::kLaneCount];
-            for (int l = 0; l < simd::kLaneCount; ++l) {
+        constexpr int kLanes = simd::kLaneCount;
+        for (; p + kLanes <= end; p += kLanes) {
+            Vec3 f[kLanes], t[kLanes];
+            double kt[kLanes], kr[kLanes];
+            for (int l = 0; l < kLanes; ++l) {
                 const step::GatheredForce g = gather(p + l, pa.radius[p + l]);
                 w.stiffness_sum_[p + l] = kt[l] = g.stiffness;
                 w.rot_stiffness_sum_[p + l] = kr[l] = g.rot_stiffness;
@@ -131,13 +135,11 @@ void World::Step::body_block(long b) {
                 t[l] = g.torque;
             }
             if (integrate_sphere_lanes(integrate, p, f, t, kt, kr, pa, w.inertial_mass_, w.inertial_inertia_, s)) {
-                for (int l = 0; l < simd::kLaneCount; ++l)
-                    s.max_disp2 = std::max(s.max_disp2, (pa.position[p + l] - w.rebuild_position_[p + l]).squaredNorm());
+                for (int l = 0; l < kLanes; ++l) track_drift(p + l);
             } else {
-                for (int l = 0; l < simd::kLaneCount; ++l)
+                for (int l = 0; l < kLanes; ++l)
                     if (integrate(p + l, f[l], t[l], kt[l], kr[l], pa, w.inertial_mass_, w.inertial_inertia_, s))
-                        s.max_disp2 =
-                            std::max(s.max_disp2, (pa.position[p + l] - w.rebuild_position_[p + l]).squaredNorm());
+                        track_drift(p + l);
             }
         }
     }
@@ -146,7 +148,7 @@ void World::Step::body_block(long b) {
         w.stiffness_sum_[p] = g.stiffness;
         w.rot_stiffness_sum_[p] = g.rot_stiffness;
         if (integrate(p, g.force, g.torque, g.stiffness, g.rot_stiffness, pa, w.inertial_mass_, w.inertial_inertia_, s))
-            s.max_disp2 = std::max(s.max_disp2, (pa.position[p] - w.rebuild_position_[p]).squaredNorm());
+            track_drift(p);
     }
     body_blocks_[b] = s;
 }
