@@ -71,12 +71,17 @@ struct SphereIntegrator {
             pa.position[p] += v_new * dt;
             check_step_length(p, v_new, w_new, pa.radius[p], s);
         }
+        check_domain(p, pa, s);
+        return true;
+    }
+
+    // "Left the domain box", when one is set; the block keeps its first failing particle.
+    [[gnu::always_inline]] inline void check_domain(long p, const ParticleArrays& pa, BodySums& s) const {
         if (has_domain && s.unstable < 0 &&
             ((pa.position[p].array() < lo.array()).any() || (pa.position[p].array() > hi.array()).any())) {
             s.unstable = p;
             s.cause = Instability::left_domain;
         }
-        return true;
     }
 
     // "Moved more than its radius in one step", without a sqrt per particle: |v| dt is far

@@ -72,11 +72,7 @@ TRIAX_LANES Vec3Lanes local_damping_lanes(const Vec3Lanes& f, const Vec3Lanes& v
         for (int l = 0; l < kLaneCount; ++l) {
             const long q = p + l;
             in.check_step_length(q, lane(v_new, l), lane(w_new, l), pa.radius[q], s);
-            if (in.has_domain && s.unstable < 0 &&
-                ((pa.position[q].array() < in.lo.array()).any() || (pa.position[q].array() > in.hi.array()).any())) {
-                s.unstable = q;
-                s.cause = Instability::left_domain;
-            }
+            in.check_domain(q, pa, s);
         }
     }
     return true;
