@@ -8,6 +8,7 @@
 #include "engine/contact/linear.hpp"
 #include "engine/core/step/contact_forces.hpp"
 #include "engine/core/step/frictional_lanes.hpp"
+#include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -24,10 +25,7 @@ struct ScalarOnlyLinearContact : LinearContact {
     static constexpr bool kRunsFrictionalLanes = false;
 };
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
+using test::same_bits;
 
 struct LanesPile {
     ParticleArrays pa;

@@ -7,6 +7,7 @@
 #include "engine/core/simd/avx2.hpp"
 #include "engine/integrate/central_difference.hpp"
 #include "engine/integrate/sphere_lanes.hpp"
+#include "test_helpers.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -22,10 +23,7 @@ using namespace triax;
 // file-local helpers of the same names.
 namespace sphere_lanes_check {
 
-template <class T>
-bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
-}
+using test::same_bits;
 
 bool same_bits(const BodySums& a, const BodySums& b) {
     return std::memcmp(&a.kinetic, &b.kinetic, sizeof(double)) == 0 &&

@@ -3,6 +3,8 @@
 #include "engine/core/world.hpp"
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 namespace triax::test {
 
@@ -17,6 +19,12 @@ inline ContactLaw linear_law(double kn, double ks, double mu) {
 }
 
 inline double sphere_mass(double r, double rho) { return rho * 4.0 / 3.0 * kPi * r * r * r; }
+
+// Bit for bit the same contents (a faster path must give the scalar path's bits).
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
 
 }  // namespace triax::test
 
