@@ -58,6 +58,7 @@ void CellList::build(const std::vector<Vec3>& position, const std::vector<double
     const int nt = n >= 4096 ? std::max(1, threads) : 1;
     thread_i_.resize(nt);
     thread_j_.resize(nt);
+    thread_found_.resize(nt);
     // Static chunks of particles per thread: each thread's pairs come out sorted by i,
     // so concatenating the threads in order gives the globally sorted list whatever nt.
 #pragma omp parallel num_threads(nt)
@@ -69,7 +70,9 @@ void CellList::build(const std::vector<Vec3>& position, const std::vector<double
         auto& lj = thread_j_[t];
         li.clear();
         lj.clear();
-        std::vector<int> found(n);  // a particle's candidates: at most every other particle
+        // A particle's candidates: at most every other particle.
+        std::vector<int>& found = thread_found_[t];
+        found.resize(n);
         for (int p = p_begin; p < p_end; ++p) {
             const long c = cell_of_[p];
             const long cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);

@@ -29,7 +29,7 @@ private:
     std::vector<int> cell_start_;          // CSR offsets, size n_cells + 1
     std::vector<CellMember> members_;      // particles grouped by cell, ascending ids in each
     std::vector<std::int64_t> cell_of_;
-    std::vector<std::vector<int>> thread_i_, thread_j_;
+    std::vector<std::vector<int>> thread_i_, thread_j_, thread_found_;  // per thread, kept between builds
 };
 
 }  // namespace triax
